@@ -1,0 +1,55 @@
+// tetia/tet_intersection.hpp -- Algorithm 2 of McCoid & Gander, "A provably robust algorithm
+// for tetrahedron-tetrahedron intersections in floating-point arithmetic".
+//
+// Contract:
+//  - Any vertex orientation of U and V is accepted. A flat (zero-volume, as computed) U or V
+//    gives an empty result, not an error. Non-finite input gives an empty result; check input at
+//    the boundary (the CLI and the mesh readers do).
+//  - The result is consistent: its corners and facets form a closed polytope whose facets are
+//    built from labels alone, so a real intersection cannot vanish through rounding
+//    (Theorem 6 and Corollary 2 of the paper).
+//  - Symmetric: intersect(U, V) and intersect(V, U) compute the same polytope bit for bit
+//    (the better-conditioned tetrahedron is always the reference, see docs/architecture.md);
+//    only the labels and barycentric coordinates are reported relative to the argument order.
+//  - No heap allocation, no exceptions.
+#pragma once
+
+#include <cstdint>
+
+#include "tetia/geometry.hpp"
+#include "tetia/polyhedron.hpp"
+
+namespace tetia {
+
+/// How each sign and coordinate was obtained (the paper's parsimony claim, Sections 4.1, 5.1).
+/// Counts are added to, so one object can accumulate over many calls.
+struct IntersectionStats {
+  // Section 3.2: signs of coordinates of edge-of-X / plane-of-Y intersections.
+  std::int64_t edge_inherited = 0;      ///< Lemma 3
+  std::int64_t edge_paired = 0;         ///< Lemma 2
+  std::int64_t edge_straight_line = 0;  ///< Section 3.2.1
+  std::int64_t edge_computed = 0;       ///< eq. (2), direct
+  // Section 3.3: signs of coordinates of face-of-X / line-of-Y intersections.
+  std::int64_t face_inherited = 0;      ///< from either parent pair
+  std::int64_t face_paired = 0;         ///< Corollary 1
+  std::int64_t face_computed = 0;       ///< eq. (5), direct
+  std::int64_t nonconvex_repairs = 0;   ///< proof of Theorem 6, four intersections on a line
+  // Coordinates actually evaluated for corners that lie on Y (eq. 2 / eq. 5), and clamps.
+  std::int64_t corner_coordinates = 0;
+  std::int64_t guardrail_clamps = 0;    ///< Section 4.1.1
+  std::int64_t reference_swaps = 0;     ///< U was better conditioned and became the reference
+  std::int64_t calls = 0;
+
+  IntersectionStats& operator+=(const IntersectionStats& o);
+};
+
+/// The intersection polyhedron of U and V.
+Polyhedron intersect(const Tet& U, const Tet& V, IntersectionStats* stats = nullptr);
+
+/// The volume of the intersection (the fast path: no original coordinates, no allocation).
+double intersection_volume(const Tet& U, const Tet& V);
+
+/// Volume and first moments of the intersection, in original coordinates.
+Moments intersection_moments(const Tet& U, const Tet& V);
+
+}  // namespace tetia
