@@ -34,16 +34,16 @@ struct Moments {
 
 /// One corner of the intersection.
 struct Corner {
-  Vec3 point{};                        ///< position in the original coordinates
-  std::array<double, 4> bary{};        ///< barycentric coordinates in V, (w, x, y, z) = vertex 0..3
-  std::array<std::uint8_t, 3> labels{};///< the three planes it lies on, ascending: 0-3 U, 4-7 V
+  Vec3 point;                        ///< position in the original coordinates
+  std::array<double, 4> bary;        ///< barycentric coordinates in V, (w, x, y, z) = vertex 0..3
+  std::array<std::uint8_t, 3> labels;///< the three planes it lies on, ascending: 0-3 U, 4-7 V
 };
 
 class Polyhedron {
  public:
   /// A simple polytope with at most 8 facets has at most 2*8 - 4 = 12 corners; the algorithm
   /// produces no more than that, the margin guards against a logic error (checked).
-  static constexpr int max_corners = 24;
+  static constexpr int max_corners = 32;
   static constexpr int max_facets = 8;
   static constexpr int max_facet_indices = 3 * max_corners;
 
@@ -74,8 +74,6 @@ class Polyhedron {
   /// a facet labelled 4 + k, or a facet of U whose corners all have barycentric coordinate
   /// k exactly zero (a shared or coplanar face). Needed by advancing fronts over matching meshes.
   unsigned touched_faces_of_v() const { return touched_v_; }
-  /// The same for the faces of U.
-  unsigned touched_faces_of_u() const { return touched_u_; }
 
   /// A tetrahedralization: a fan from corner 0 over every facet that does not contain it.
   /// Tetrahedra are positively oriented; their volumes add up to volume() up to rounding.
@@ -86,9 +84,9 @@ class Polyhedron {
 
   int num_corners_ = 0;
   int num_facets_ = 0;
-  unsigned touched_v_ = 0, touched_u_ = 0;
+  unsigned touched_v_ = 0;
   Moments moments_{};
-  std::array<Corner, max_corners> corners_{};
+  std::array<Corner, max_corners> corners_;  // only the first num_corners_ are set
   std::array<std::uint8_t, max_facets> facet_label_{};
   std::array<std::uint8_t, max_facets + 1> facet_begin_{};
   std::array<std::uint8_t, max_facet_indices> facet_index_{};
