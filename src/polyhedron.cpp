@@ -11,9 +11,9 @@ std::vector<Tet> Polyhedron::tetrahedra() const {
     bool has_apex = false;
     for (auto c : idx) has_apex |= c == 0;
     if (has_apex) continue;
-    // Facets are counter-clockwise seen from outside, so (apex, p0, pk+1, pk) is positive.
+    // Facets are counter-clockwise seen from outside, so (apex, p0, pk, pk+1) is positive.
     for (std::size_t k = 1; k + 1 < idx.size(); ++k)
-      out.push_back({apex, corners_[idx[0]].point, corners_[idx[k + 1]].point, corners_[idx[k]].point});
+      out.push_back({apex, corners_[idx[0]].point, corners_[idx[k]].point, corners_[idx[k + 1]].point});
   }
   return out;
 }

@@ -15,6 +15,7 @@
 // shared, which is what Theorem 6 needs: the corners then carry the labels of a simple
 // polytope, and the facets follow from the labels.
 #include "tetia/tet_intersection.hpp"
+#include "tetia/kernel_trace.hpp"
 
 #include <algorithm>
 #include <cassert>
@@ -405,6 +406,24 @@ class Kernel {
 
  public:
   bool consistent() const { return consistent_; }
+
+  // Exports the decided signs (tests only).
+  void export_signs(KernelTrace& t) const {
+    for (int e = 0; e < 6; ++e) {
+      t.crossings[static_cast<std::size_t>(e)] = cross_[e];
+      for (int p = 0; p < 4; ++p)
+        for (int q = 0; q < 4; ++q)
+          t.edge_sign[e][p][q] = ((cross_[e] >> p) & 1) && q != p
+                                     ? static_cast<std::int8_t>(edge_sign(e, p, q))
+                                     : std::int8_t{-1};
+    }
+    for (int f = 0; f < 4; ++f)
+      for (int L = 0; L < 6; ++L)
+        for (int c = 0; c < 4; ++c)
+          t.face_sign[f][L][c] = fl_exists_[f][L] && c != kLines[L][0] && c != kLines[L][1]
+                                     ? static_cast<std::int8_t>(fl_sign_[f][L][c])
+                                     : std::int8_t{-1};
+  }
 };
 
 bool Kernel::run(KernelResult& out) {
@@ -769,6 +788,23 @@ Moments original_moments(const Frame& fr, const KernelResult& res) {
   return m;
 }
 
+void trace_kernel(const double (&C)[4][4], KernelTrace& t, IntersectionStats* stats) {
+  Kernel k(C, stats);
+  KernelResult res;
+  const bool ran = k.run(res);
+  k.export_signs(t);
+  t.num_corners = res.num_corners;
+  for (int c = 0; c < res.num_corners; ++c)
+    for (int x = 0; x < 4; ++x) {
+      if (x < 3) t.labels[static_cast<std::size_t>(c)][static_cast<std::size_t>(x)] = res.corners[c].labels[x];
+      t.bary[static_cast<std::size_t>(c)][static_cast<std::size_t>(x)] = res.corners[c].bary[x];
+    }
+  t.consistent = ran && build_facets(res);
+  if (t.consistent) reference_moments(res);
+  t.num_facets = res.num_facets;
+  t.volume = res.ref_volume;
+}
+
 }  // namespace detail
 
 // Fills a Polyhedron from the kernel's result: original coordinates by eq. (3) (exact vertices
@@ -818,6 +854,11 @@ struct PolyhedronBuilder {
     for (int f = 0; f <= res.num_facets; ++f) P.facet_begin_[static_cast<std::size_t>(f)] = res.facet_begin[f];
     for (int k = 0; k < res.facet_begin[res.num_facets]; ++k)
       P.facet_index_[static_cast<std::size_t>(k)] = res.facet_index[k];
+    // Facets are outward in the reference frame; a negatively oriented reference maps them
+    // inward in the original coordinates.
+    if (fr.det6 < 0.0)
+      for (int f = 0; f < res.num_facets; ++f)
+        std::reverse(P.facet_index_.begin() + res.facet_begin[f], P.facet_index_.begin() + res.facet_begin[f + 1]);
     for (int f = 0; f < res.num_facets; ++f) {
       const int label = fr.swapped ? (res.facet_label[f] + 4) % 8 : res.facet_label[f];
       P.facet_label_[static_cast<std::size_t>(f)] = static_cast<std::uint8_t>(label);

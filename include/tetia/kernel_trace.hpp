@@ -1,0 +1,37 @@
+// tetia/kernel_trace.hpp -- a window into the kernel's sign decisions, for tests and for the
+// parsimony study. Not needed to use the library.
+//
+// Contract: trace_kernel runs Algorithm 2 on the barycentric coordinates C[i][p] of X (vertex i,
+// coordinate p = w, x, y, z) directly, without the change of coordinates, and reports what it
+// decided: the flags of line 9, the signs of every edge-plane and face-line intersection, the
+// corners with their labels (0-3 faces of X, 4-7 planes P_w..P_z) and the reference volume.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "tetia/tet_intersection.hpp"
+
+namespace tetia::detail {
+
+struct KernelTrace {
+  /// crossings[e] bit p: edge e (tet_edges order) crosses P_p (line 9 of Algorithm 2).
+  std::array<std::uint8_t, 6> crossings{};
+  /// edge_sign[e][p][q]: binary sign of coordinate q at edge e ∩ P_p; -1 where there is no
+  /// such intersection or q == p.
+  std::int8_t edge_sign[6][4][4];
+  /// face_sign[f][L][c]: sign of coordinate c at face f (opposite vertex f) ∩ line L, lines in
+  /// the order {w,x},{w,y},{w,z},{x,y},{x,z},{y,z}; -1 where there is none or c is on the line.
+  std::int8_t face_sign[4][6][4];
+  int num_corners = 0;
+  std::array<std::array<std::uint8_t, 3>, 32> labels{};
+  std::array<std::array<double, 4>, 32> bary{};
+  int num_facets = 0;
+  double volume = 0.0;  ///< in the reference frame (Y has volume 1/6)
+  bool consistent = false;
+};
+
+/// Runs the kernel on X given by its barycentric coordinates in Y.
+void trace_kernel(const double (&C)[4][4], KernelTrace& trace, IntersectionStats* stats = nullptr);
+
+}  // namespace tetia::detail

@@ -1,0 +1,324 @@
+// Unit tests of the kernel against the paper's own examples (Sections 5.1 and 5.2) and simple
+// closed forms. The exhaustive comparison with exact arithmetic is in test_kernel_vs_exact.cpp.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <set>
+
+#include "tetia/kernel_trace.hpp"
+#include "tetia/tet_intersection.hpp"
+
+namespace {
+
+using namespace tetia;
+using detail::KernelTrace;
+
+constexpr double kPi = std::numbers::pi;
+const Tet kRef{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+
+// Section 5.1: X with the signs of Table 5 (w, x, y, z of vertices 0..3: ++++, ++++, +++-,
+// +---). These dyadic coordinates reproduce Tables 6 and 7 of the paper (found by search).
+KernelTrace combinatorial_example(IntersectionStats* stats = nullptr) {
+  const double xyz[4][3] = {
+      {0.5, 0.125, 0.25}, {0.125, 0.375, 0.125}, {0.875, 0.375, -0.75}, {-0.625, -0.75, -0.125}};
+  double C[4][4];
+  for (int i = 0; i < 4; ++i) {
+    C[i][1] = xyz[i][0];
+    C[i][2] = xyz[i][1];
+    C[i][3] = xyz[i][2];
+    C[i][0] = 1.0 - xyz[i][0] - xyz[i][1] - xyz[i][2];
+  }
+  KernelTrace t;
+  detail::trace_kernel(C, t, stats);
+  return t;
+}
+
+int edge_index(int i, int j) {
+  for (int e = 0; e < 6; ++e)
+    if (tet_edges[e][0] == std::min(i, j) && tet_edges[e][1] == std::max(i, j)) return e;
+  return -1;
+}
+
+enum { W = 0, X = 1, Y = 2, Z = 3 };
+
+TEST(CombinatorialExample, FlagsMatrixS) {
+  const KernelTrace t = combinatorial_example();
+  // S of Section 5.1: rows P_w, P_x, P_y, P_z; columns edges 01, 02, 03, 12, 13, 23.
+  const int S[4][6] = {{0, 0, 0, 0, 0, 0}, {0, 0, 1, 0, 1, 1}, {0, 0, 1, 0, 1, 1}, {0, 1, 1, 1, 1, 0}};
+  const int cols[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+  for (int p = 0; p < 4; ++p)
+    for (int c = 0; c < 6; ++c) {
+      const int e = edge_index(cols[c][0], cols[c][1]);
+      EXPECT_EQ((t.crossings[e] >> p) & 1, S[p][c]) << "plane " << p << " column " << c;
+    }
+}
+
+TEST(CombinatorialExample, EdgeSignsOfTable6) {
+  const KernelTrace t = combinatorial_example();
+  struct Row {
+    int plane, i, j, c1, s1, c2, s2;
+  };
+  const Row table6[] = {
+      {X, 0, 3, Y, 0, Z, 1}, {X, 1, 3, Y, 1, Z, 1}, {X, 2, 3, Y, 0, Z, 0},
+      {Y, 0, 3, X, 1, Z, 1}, {Y, 1, 3, X, 0, Z, 1}, {Y, 2, 3, X, 1, Z, 0},
+      {Z, 0, 2, X, 1, Y, 1}, {Z, 0, 3, X, 0, Y, 0}, {Z, 1, 2, X, 1, Y, 1}, {Z, 1, 3, X, 0, Y, 0},
+  };
+  for (const Row& r : table6) {
+    const int e = edge_index(r.i, r.j);
+    EXPECT_EQ(t.edge_sign[e][r.plane][r.c1], r.s1) << r.i << r.j << " in P" << r.plane;
+    EXPECT_EQ(t.edge_sign[e][r.plane][r.c2], r.s2) << r.i << r.j << " in P" << r.plane;
+    EXPECT_EQ(t.edge_sign[e][r.plane][W], 1);  // every vertex has w >= 0: inherited
+  }
+  // No other edge-plane intersections exist: ten in all (three in P_x, three in P_y, four in P_z).
+  int count = 0;
+  for (int e = 0; e < 6; ++e) count += __builtin_popcount(t.crossings[e]);
+  EXPECT_EQ(count, 10);
+}
+
+TEST(CombinatorialExample, FaceSignsOfTable7) {
+  const KernelTrace t = combinatorial_example();
+  // Lines: {w,x}=0 {w,y}=1 {w,z}=2 {x,y}=3 {x,z}=4 {y,z}=5; face ijk is opposite the fourth.
+  struct Row {
+    int line, face, coord, sign;
+  };
+  const Row table7[] = {
+      {3, 2, Z, 1}, {3, 0, Z, 0},  // P_x ∩ P_y: 013 (+), 123 (-)
+      {4, 1, Y, 0}, {4, 0, Y, 1},  // P_x ∩ P_z: 023 (-), 123 [+]
+      {5, 1, X, 1}, {5, 0, X, 0},  // P_y ∩ P_z: 023 (+), 123 [-]
+  };
+  for (const Row& r : table7) {
+    EXPECT_EQ(t.face_sign[r.face][r.line][r.coord], r.sign) << "face " << r.face << " line " << r.line;
+    EXPECT_EQ(t.face_sign[r.face][r.line][W], 1);
+  }
+  // Exactly two intersections on each of the three lines through the vertex P_x ∩ P_y ∩ P_z.
+  for (int L : {3, 4, 5}) {
+    int n = 0;
+    for (int f = 0; f < 4; ++f) n += t.face_sign[f][L][W] >= 0;
+    EXPECT_EQ(n, 2) << "line " << L;
+  }
+}
+
+TEST(CombinatorialExample, CornersOfSection51) {
+  IntersectionStats stats;
+  const KernelTrace t = combinatorial_example(&stats);
+  ASSERT_TRUE(t.consistent);
+  EXPECT_EQ(stats.inconsistencies, 0);
+  std::set<std::array<int, 3>> got;
+  for (int c = 0; c < t.num_corners; ++c)
+    got.insert({t.labels[c][0], t.labels[c][1], t.labels[c][2]});
+  const int Px = 4 + X, Py = 4 + Y, Pz = 4 + Z;
+  // Labels: faces of X are numbered by their opposite vertex; edge ij lies on the two faces
+  // opposite the other vertices; face ijk is the face opposite the fourth vertex.
+  const std::set<std::array<int, 3>> want = {
+      {1, 2, 3},     // x0 inside Y
+      {0, 2, 3},     // x1 inside Y
+      {0, 2, Px},    // edge 13 ∩ P_x
+      {1, 2, Py},    // edge 03 ∩ P_y
+      {1, 3, Pz},    // edge 02 ∩ P_z
+      {0, 3, Pz},    // edge 12 ∩ P_z
+      {2, Px, Py},   // face 013 ∩ P_x ∩ P_y
+      {0, Px, Pz},   // face 123 ∩ P_x ∩ P_z
+      {1, Py, Pz},   // face 023 ∩ P_y ∩ P_z
+      {Px, Py, Pz},  // the vertex of Y at the origin
+  };
+  EXPECT_EQ(got, want);
+  // A simple polytope with 10 corners has 7 facets (V - E + F = 2, E = 3V/2).
+  EXPECT_EQ(t.num_facets, 7);
+  EXPECT_GT(t.volume, 0.0);
+}
+
+// Section 5.2 with the corrected geometry of ERRATA.md.
+double sweep_exact(double a) {
+  const double c = std::cos(a / 2);
+  double v = std::sin(a / 2) / (48 * std::sin(a / 2 + kPi / 6));
+  if (c <= 0.5) v -= (c - 0.5) / (3 * (c - 1)) * (0.5 - c) * (0.5 - c) * std::tan(kPi / 6);
+  return v;
+}
+
+void sweep_pair(double a, Tet& U, Tet& V) {
+  V = {{{0, 0, 0}, {1, 0, 0}, {std::cos(a), std::sin(a), 0}, {0, 0, 1}}};
+  for (int k = 0; k < 3; ++k) {
+    const double th = a / 2 + 2 * kPi * k / 3;
+    U[k] = {0.5 * std::cos(th), 0.5 * std::sin(th), 0};
+  }
+  U[3] = {0, 0, 0.5};
+}
+
+TEST(PaperSweep, ThousandAnglesBothRolesBothRegimes) {
+  double worst = 0.0;
+  int first_regime = 0, second_regime = 0;
+  for (int k = 0; k < 1000; ++k) {
+    // 999 interior angles plus the boundary between the regimes, alpha = 2 pi / 3.
+    const double a = k == 999 ? 2 * kPi / 3 : kPi * (k + 1) / 1000;
+    Tet U, V;
+    sweep_pair(a, U, V);
+    const double exact = sweep_exact(a);
+    (std::cos(a / 2) > 0.5 ? first_regime : second_regime)++;
+    for (const double v : {intersection_volume(U, V), intersection_volume(V, U), intersect(U, V).volume(),
+                           intersect(V, U).volume()}) {
+      const double err = std::abs(v - exact) / exact;
+      worst = std::max(worst, err);
+      EXPECT_LE(err, 1e-13) << "alpha = " << a;
+    }
+  }
+  EXPECT_GT(first_regime, 300);
+  EXPECT_GT(second_regime, 300);
+  RecordProperty("worst_relative_error", std::to_string(worst));
+}
+
+TEST(Kernel, IdenticalTetrahedraEveryVertexOrder) {
+  std::array<int, 4> perm = {0, 1, 2, 3};
+  do {
+    Tet V;
+    for (int k = 0; k < 4; ++k) V[k] = kRef[perm[k]];
+    for (const auto& [a, b] : {std::pair{kRef, V}, std::pair{V, kRef}}) {
+      IntersectionStats st;
+      const Polyhedron P = intersect(a, b, &st);
+      EXPECT_EQ(P.volume(), 1.0 / 6.0);
+      EXPECT_EQ(P.num_corners(), 4);
+      EXPECT_EQ(P.num_facets(), 4);
+      // The gap of the published MATLAB code: identical tetrahedra touch all of V's faces.
+      EXPECT_EQ(P.touched_faces_of_v(), 0xFu);
+      EXPECT_EQ(st.inconsistencies, 0);
+    }
+  } while (std::next_permutation(perm.begin(), perm.end()));
+}
+
+TEST(Kernel, ClosedForms) {
+  const Tet half{{{0, 0, 0}, {0.5, 0, 0}, {0, 0.5, 0}, {0, 0, 0.5}}};
+  EXPECT_DOUBLE_EQ(intersection_volume(kRef, half), 1.0 / 48.0);
+  for (const double t : {0.125, 0.25, 0.5, 0.75, 0.875}) {
+    Tet s = kRef;
+    for (auto& v : s) v.x += t;
+    EXPECT_NEAR(intersection_volume(kRef, s), std::pow(1 - t, 3) / 6, 1e-16) << t;
+  }
+  // Disjoint, and touching along a face from outside: exactly zero.
+  Tet far = kRef, mirror = kRef;
+  for (auto& v : far) v.x += 3;
+  for (auto& v : mirror) v.x = -v.x;
+  EXPECT_EQ(intersection_volume(kRef, far), 0.0);
+  EXPECT_EQ(intersection_volume(kRef, mirror), 0.0);
+  EXPECT_EQ(intersection_volume(mirror, kRef), 0.0);
+}
+
+TEST(Kernel, FlatAndNonFiniteInputGiveEmpty) {
+  const Tet flat{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}};
+  EXPECT_TRUE(intersect(kRef, flat).empty());
+  EXPECT_EQ(intersection_volume(flat, kRef), 0.0);
+  Tet nan = kRef;
+  nan[2].y = std::nan("");
+  EXPECT_TRUE(intersect(kRef, nan).empty());
+  Tet inf = kRef;
+  inf[1].x = INFINITY;
+  EXPECT_EQ(intersection_volume(inf, kRef), 0.0);
+}
+
+TEST(Kernel, EitherOrientationAccepted) {
+  Tet flipped = kRef;
+  std::swap(flipped[1], flipped[2]);
+  const Tet half{{{0.1, 0.1, 0.1}, {0.6, 0.1, 0.1}, {0.1, 0.6, 0.1}, {0.1, 0.1, 0.6}}};
+  Tet half_flipped = half;
+  std::swap(half_flipped[0], half_flipped[3]);
+  const double v = intersection_volume(kRef, half);
+  EXPECT_NEAR(v, 0.125 / 6, 1e-16);
+  EXPECT_NEAR(intersection_volume(flipped, half), v, 1e-16);
+  EXPECT_NEAR(intersection_volume(flipped, half_flipped), v, 1e-16);
+  EXPECT_NEAR(intersection_volume(kRef, half_flipped), v, 1e-16);
+}
+
+Tet random_tet(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Tet t;
+  for (auto& v : t) v = {u(rng), u(rng), u(rng)};
+  return t;
+}
+
+TEST(Kernel, BitwiseSymmetricAndLabelsSwapped) {
+  std::mt19937_64 rng(2024);
+  for (int n = 0; n < 5000; ++n) {
+    const Tet U = random_tet(rng), V = random_tet(rng);
+    const double a = intersection_volume(U, V), b = intersection_volume(V, U);
+    ASSERT_EQ(a, b) << n;
+    const Polyhedron P = intersect(U, V), Q = intersect(V, U);
+    ASSERT_EQ(P.num_corners(), Q.num_corners());
+    for (int c = 0; c < P.num_corners(); ++c) {
+      EXPECT_EQ(P.corner(c).point, Q.corner(c).point);
+      std::array<int, 3> swapped;
+      for (int k = 0; k < 3; ++k) swapped[k] = (Q.corner(c).labels[k] + 4) % 8;
+      std::sort(swapped.begin(), swapped.end());
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(P.corner(c).labels[k], swapped[k]);
+    }
+  }
+}
+
+TEST(Kernel, CornersAgreeWithTheirLabelsAndBarycentricCoordinates) {
+  std::mt19937_64 rng(99);
+  double worst = 0.0;
+  for (int n = 0; n < 3000; ++n) {
+    const Tet U = random_tet(rng), V = random_tet(rng);
+    const Polyhedron P = intersect(U, V);
+    for (const Corner& c : P.corners()) {
+      // bary is a point of V, reproducing the corner's position.
+      double sum = 0.0;
+      Vec3 q{};
+      for (int p = 0; p < 4; ++p) {
+        EXPECT_GE(c.bary[p], 0.0);
+        sum += c.bary[p];
+        q = q + c.bary[p] * V[p];
+      }
+      EXPECT_NEAR(sum, 1.0, 1e-14);
+      const Vec3 d = q - c.point;
+      worst = std::max(worst, std::sqrt(dot(d, d)));
+      // A label 4 + p means the corner is on V's face opposite vertex p: coordinate p is 0.
+      for (auto l : c.labels) {
+        if (l >= 4) {
+          EXPECT_EQ(c.bary[l - 4], 0.0);
+        }
+      }
+    }
+  }
+  EXPECT_LT(worst, 1e-12);
+}
+
+TEST(Kernel, VolumeMomentsAndTetrahedralizationAgree) {
+  std::mt19937_64 rng(5);
+  for (int n = 0; n < 3000; ++n) {
+    const Tet U = random_tet(rng), V = random_tet(rng);
+    const Polyhedron P = intersect(U, V);
+    const double v = intersection_volume(U, V);
+    EXPECT_EQ(P.volume(), v);
+    const Moments m = intersection_moments(U, V);
+    EXPECT_EQ(m.volume, v);
+    double sum = 0.0;
+    Vec3 first{};
+    for (const Tet& t : P.tetrahedra()) {
+      const double tv = signed_volume(t);
+      EXPECT_GE(tv, -1e-15);
+      sum += tv;
+      first = first + (tv / 4) * (t[0] + t[1] + t[2] + t[3]);
+    }
+    EXPECT_NEAR(sum, v, 1e-14);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(first[k], m.first[k], 1e-14);
+  }
+}
+
+TEST(Kernel, ParsimonyStatisticsAreCountedAndConsistent) {
+  std::mt19937_64 rng(11);
+  IntersectionStats st;
+  for (int n = 0; n < 20000; ++n) intersect(random_tet(rng), random_tet(rng), &st);
+  EXPECT_EQ(st.calls, 20000);
+  EXPECT_EQ(st.inconsistencies, 0);
+  EXPECT_GT(st.edge_inherited, 0);
+  EXPECT_GT(st.edge_paired, 0);
+  EXPECT_GT(st.edge_straight_line, 0);
+  EXPECT_GT(st.face_inherited, 0);
+  EXPECT_GT(st.face_paired, 0);
+  // Each direct calculation on an edge settles a pair of signs (Lemma 2).
+  EXPECT_EQ(st.edge_paired, st.edge_computed);
+}
+
+}  // namespace
