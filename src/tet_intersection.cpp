@@ -236,12 +236,6 @@ class Kernel {
     }
   }
 
-  // Sign of coordinate c at F(f, {a, b}) inherited from the parent pair in P_a, or -1.
-  int inherited_from(int f, int a, int c) const {
-    const unsigned m1 = seg_m1_[f][a], m2 = seg_m2_[f][a];
-    return bit(m1 ^ m2, c) ? -1 : int(bit(m1, c));
-  }
-
   // Corollary 1 (with ERRATA's reading of its condition) in the plane P_a: on the segment
   // (f ∩ P_a) crossing both P_b and P_c, the c-sign at the b-crossing and the b-sign at the
   // c-crossing satisfy  sign(c_ab) ⊗ sign(b_ac) = sign(c at E1) ⊗ sign(b at E2),  for the two
@@ -272,29 +266,54 @@ class Kernel {
     return num == 0.0 || ((num > 0.0) == den_positive);
   }
 
-  // Signs of the coordinates of the face-line intersections, one triple at a time: for face f
-  // and vertex t of Y, the three points F(f,{p,q}), F(f,{p,r}), F(f,{q,r}) around the vertex
-  // P_p ∩ P_q ∩ P_r share one numerator up to sign (the "tripling" of Section 3.3, Fig. 3), so
-  // their coordinates r, q, p are decided together: inherited from either parent pair where
-  // possible, otherwise linked pairwise by Corollary 1, with at most one direct calculation
-  // (eq. 5) per triple.
-  void decide_triple(int f, int t) {
-    const Triple& T = kTriples[t];
+  // Signs of the coordinates of the face-line intersections of face f. A coordinate c of
+  // F(f, {a, b}) is inherited when either parent pair agrees in it, that is when the segment
+  // (f ∩ P_a) or (f ∩ P_b) does not cross P_c; as masks, all of a face's inheritances are a few
+  // bit operations. What is left is decided one triple at a time (resolve_triple).
+  void decide_face(int f) {
+    unsigned undecided_lines = 0;
+    for (int L = 0; L < 6; ++L) {
+      if (!bit(fexist_[f], L)) continue;
+      const int a = kLines[L][0], b = kLines[L][1];
+      const unsigned on_line = (1u << a) | (1u << b);
+      const unsigned ma = seg_m1_[f][a], mb = seg_m1_[f][b];
+      const unsigned da = ma ^ seg_m2_[f][a], db = mb ^ seg_m2_[f][b];
+      // Prefer the parents in P_a; those in P_b where the P_a pair crosses P_c.
+      fsign_[f][L] = static_cast<u8>(on_line | (ma & ~da) | (mb & ~db & da));
+      const unsigned undecided = da & db & ~on_line & 0xFu;
+      undecided_[f][L] = static_cast<u8>(undecided);
+      if (undecided) undecided_lines |= 1u << L;
+      if (stats_) {
+        const unsigned both = ~da & ~db & ~on_line & 0xFu;  // inherited twice: must agree
+        if ((ma ^ mb) & both) note_inconsistency();
+        stats_->face_inherited += 2 - std::popcount(undecided);
+      }
+    }
+    if (!undecided_lines) return;
+    for (int t = 0; t < 4; ++t) {
+      const Triple& T = kTriples[t];
+      bool any = false;
+      for (int s = 0; s < 3; ++s)
+        any |= bit(undecided_lines, T.line[s]) && bit(undecided_[f][T.line[s]], T.slot[s][2]);
+      if (any) resolve_triple(f, T);
+    }
+  }
+
+  // For face f and vertex t of Y, the three points F(f,{p,q}), F(f,{p,r}), F(f,{q,r}) around
+  // the vertex P_p ∩ P_q ∩ P_r share one numerator up to sign (the "tripling" of Section 3.3,
+  // Fig. 3). Their coordinates r, q, p not inherited are linked pairwise by Corollary 1
+  // wherever two of the points exist; a group with no known sign gets one direct calculation
+  // (eq. 5), and the others follow.
+  void resolve_triple(int f, const Triple& T) {
     const unsigned ex = fexist_[f];
     const bool exists[3] = {bit(ex, T.line[0]), bit(ex, T.line[1]), bit(ex, T.line[2])};
-    if (!(exists[0] || exists[1] || exists[2])) return;
     int value[3] = {-1, -1, -1};
-    for (int s = 0; s < 3; ++s) {
-      if (!exists[s]) continue;
-      const int a = T.slot[s][0], b = T.slot[s][1], c = T.slot[s][2];
-      const int va = inherited_from(f, a, c);
-      const int vb = inherited_from(f, b, c);
-      if (stats_ && va >= 0 && vb >= 0 && va != vb) note_inconsistency();
-      value[s] = va >= 0 ? va : vb;
-      if (stats_ && value[s] >= 0) ++stats_->face_inherited;
-    }
+    for (int s = 0; s < 3; ++s)
+      if (exists[s] && !bit(undecided_[f][T.line[s]], T.slot[s][2]))
+        value[s] = bit(fsign_[f][T.line[s]], T.slot[s][2]);
+    const int before[3] = {value[0], value[1], value[2]};
     for (;;) {
-      // Propagate known signs along the relations (each pass settles at least one slot).
+      // Propagate known signs along the relations (two passes settle a triangle).
       for (int pass = 0; pass < 2; ++pass)
         for (const auto& R : T.rel) {
           if (!exists[R[0]] || !exists[R[1]]) continue;
@@ -319,7 +338,8 @@ class Kernel {
           note_inconsistency();
     }
     for (int s = 0; s < 3; ++s)
-      if (exists[s]) fsign_[f][T.line[s]] = static_cast<u8>(fsign_[f][T.line[s]] | (value[s] << T.slot[s][2]));
+      if (exists[s] && before[s] < 0)
+        fsign_[f][T.line[s]] = static_cast<u8>(fsign_[f][T.line[s]] | (value[s] << T.slot[s][2]));
   }
 
   void note_inconsistency() {
@@ -414,6 +434,7 @@ class Kernel {
   u8 seg_lone_[4][4], seg_j_[4][4], seg_k_[4][4];
   u8 fexist_[4] = {0, 0, 0, 0};  // lines met by face f (bit L)
   u8 fsign_[4][6];               // sign mask at face f ∩ line L
+  u8 undecided_[4][6];           // coordinates of face f ∩ line L not inherited
   bool consistent_ = true;
   IntersectionStats* stats_;
 };
@@ -470,9 +491,8 @@ bool Kernel::run(KernelResult& out) {
     }
   }
   for (int f = 0; f < 4; ++f) {
-    for (int L = 0; L < 6; ++L) fsign_[f][L] = static_cast<u8>((1u << kLines[L][0]) | (1u << kLines[L][1]));
     if (!fexist_[f]) continue;
-    for (int t = 0; t < 4; ++t) decide_triple(f, t);
+    decide_face(f);
     for (int L = 0; L < 6; ++L) {
       if (!bit(fexist_[f], L) || fsign_[f][L] != 0xF) continue;
       const int a = kLines[L][0], b = kLines[L][1];
