@@ -376,35 +376,30 @@ class Kernel {
   // lies on stay exactly 0. If nothing is left, the midpoint of the admissible coordinates
   // (one choice in the spirit of Table 4).
   void guardrail(double (&b)[4], unsigned zero_mask) {
-    double sum = 0.0;
     bool clamped = false;
-    for (int p = 0; p < 4; ++p) {
-      if (bit(zero_mask, p)) {
-        b[p] = 0.0;
-        continue;
-      }
-      if (!(b[p] >= 0.0)) {  // also catches NaN
+    for (int p = 0; p < 4; ++p)
+      if (!(b[p] >= 0.0)) {  // also catches NaN; the zero coordinates are exact zeros already
         b[p] = 0.0;
         clamped = true;
       }
-      sum += b[p];
+    if (!clamped) return;  // computed coordinates sum to 1 up to rounding: left as they are
+    if (stats_) ++stats_->guardrail_clamps;
+    const double sum = b[0] + b[1] + b[2] + b[3];
+    if (sum > 0.0 && sum < INFINITY) {
+      const double inv = 1.0 / sum;
+      for (double& x : b) x *= inv;
+      return;
     }
-    if (!(sum > 0.0) || !std::isfinite(sum)) {
-      const int free = 4 - std::popcount(zero_mask & 0xFu);
-      for (int p = 0; p < 4; ++p) b[p] = bit(zero_mask, p) ? 0.0 : 1.0 / free;
-      clamped = true;
-    } else if (sum != 1.0) {
-      for (int p = 0; p < 4; ++p) b[p] /= sum;
-    }
-    if (clamped && stats_) ++stats_->guardrail_clamps;
+    const int free = 4 - std::popcount(zero_mask & 0xFu);
+    for (int p = 0; p < 4; ++p) b[p] = bit(zero_mask, p) ? 0.0 : 1.0 / free;
   }
 
   // Coordinates of the corner where edge e meets P_p, eq. (2).
   void edge_corner_coords(int e, int p, double (&b)[4]) {
     const int i = tet_edges[e][0], j = tet_edges[e][1];
-    const double den = C_[i][p] - C_[j][p];
+    const double inv = 1.0 / (C_[i][p] - C_[j][p]);
     for (int q = 0; q < 4; ++q)
-      b[q] = q == p ? 0.0 : (C_[j][q] * C_[i][p] - C_[i][q] * C_[j][p]) / den;
+      b[q] = q == p ? 0.0 : (C_[j][q] * C_[i][p] - C_[i][q] * C_[j][p]) * inv;
     if (stats_) stats_->corner_coordinates += 3;
     guardrail(b, 1u << p);
   }
@@ -418,10 +413,10 @@ class Kernel {
       if (p != a && p != b) rest[n++] = p;
     const double n0 = numerator5(rest[0], a, b, i, j, k);
     const double n1 = numerator5(rest[1], a, b, i, j, k);
-    const double den = n0 + n1;
+    const double inv = 1.0 / (n0 + n1);
     out[a] = out[b] = 0.0;
-    out[rest[0]] = n0 / den;
-    out[rest[1]] = n1 / den;
+    out[rest[0]] = n0 * inv;
+    out[rest[1]] = n1 * inv;
     if (stats_) stats_->corner_coordinates += 2;
     guardrail(out, (1u << a) | (1u << b));
   }
@@ -834,7 +829,10 @@ struct PolyhedronBuilder {
       std::sort(labels, labels + 3);
       for (int k = 0; k < 3; ++k) out.labels[static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(labels[k]);
       if (!fr.swapped) {
-        for (int p = 0; p < 4; ++p) out.bary[static_cast<std::size_t>(p)] = rc.bary[p];
+        // The kernel's coordinates sum to 1 up to the conditioning of the map; the reported
+        // ones are scaled to sum to 1 (zeros stay exact zeros): they are P1 basis values.
+        const double inv = 1.0 / (rc.bary[0] + rc.bary[1] + rc.bary[2] + rc.bary[3]);
+        for (int p = 0; p < 4; ++p) out.bary[static_cast<std::size_t>(p)] = rc.bary[p] * inv;
         continue;
       }
       // The reference was U: V's coordinates come from the point itself, with the coordinates

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# Installs the Debian packages tetia needs to build, test, benchmark and plot (Debian 12).
+# Idempotent and non-interactive: when every package is already installed it does nothing
+# (set TETIA_FORCE_APT=1 to run apt-get anyway); otherwise it runs `apt-get update`, then
+# `apt-get install -y --no-install-recommends` of the list below. Uses sudo when not root.
+set -euo pipefail
+
+packages=(
+  build-essential   # make, libc headers
+  g++               # C++20 compiler
+  cmake             # >= 3.25
+  ninja-build
+  libgtest-dev      # GoogleTest (tests)
+  libgmock-dev
+  libbenchmark-dev  # Google Benchmark (bench/)
+  libgmp-dev        # GMP rationals: exact reference (tetia_reference)
+  libmpfr-dev       # needed by CGAL
+  libcli11-dev      # command-line parsing (tetia executable)
+  libcgal-dev       # CGAL: the comparison in bench/bench_cgal
+  libboost-dev      # CGAL's headers need Boost
+  libeigen3-dev
+  python3           # scripts and plots
+  python3-matplotlib
+  python3-numpy
+)
+
+names=("${packages[@]}")
+
+missing=()
+for p in "${names[@]}"; do
+  status=$(dpkg-query -W -f='${db:Status-Status}' "$p" 2>/dev/null || true)
+  if [[ "$status" != "installed" ]]; then missing+=("$p"); fi
+done
+
+if [[ ${#missing[@]} -eq 0 && "${TETIA_FORCE_APT:-0}" != "1" ]]; then
+  echo "install-deps: all ${#names[@]} packages already installed: ${names[*]}"
+  exit 0
+fi
+
+if [[ $(id -u) -eq 0 ]]; then
+  SUDO=()
+elif command -v sudo >/dev/null 2>&1; then
+  SUDO=(sudo)
+else
+  echo "install-deps: not root and sudo is not available; run as root: $0" >&2
+  echo "install-deps: missing packages: ${missing[*]}" >&2
+  exit 1
+fi
+
+export DEBIAN_FRONTEND=noninteractive
+echo "install-deps: missing: ${missing[*]:-none}"
+echo "install-deps: + ${SUDO[*]:+${SUDO[*]} }apt-get update"
+"${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update
+echo "install-deps: + ${SUDO[*]:+${SUDO[*]} }apt-get install -y --no-install-recommends ${names[*]}"
+"${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${names[@]}"
+echo "install-deps: done"
