@@ -82,6 +82,13 @@ constexpr Triple make_triple(int t) {
 }
 constexpr Triple kTriples[4] = {make_triple(0), make_triple(1), make_triple(2), make_triple(3)};
 
+// The three lines of Y through vertex t, each with the coordinate that vanishes at t but not
+// on the line (Section 3.4): {line, coordinate}.
+constexpr int kVertexLines[4][3][2] = {{{kLineOf[2][3], 1}, {kLineOf[1][3], 2}, {kLineOf[1][2], 3}},
+                                       {{kLineOf[2][3], 0}, {kLineOf[0][3], 2}, {kLineOf[0][2], 3}},
+                                       {{kLineOf[1][3], 0}, {kLineOf[0][3], 1}, {kLineOf[0][1], 3}},
+                                       {{kLineOf[1][2], 0}, {kLineOf[0][2], 1}, {kLineOf[0][1], 2}}};
+
 }  // namespace
 
 // Corner kinds, in the order of the hierarchy of Section 3.
@@ -203,20 +210,17 @@ class Kernel {
       const int a = kFaceVerts[f][0], b = kFaceVerts[f][1], c = kFaceVerts[f][2];
       const unsigned x = sm_[a] ^ sm_[b], y = sm_[a] ^ sm_[c];
       for (int p = 0; p < 4; ++p) {
+        seg_m1_[f][p] = seg_m2_[f][p] = 0;
+        if (!bit(x | y, p)) continue;
         int lone, j, k;
         if (bit(x & y, p)) lone = a, j = b, k = c;
-        else if (bit(x & ~y, p)) lone = b, j = a, k = c;
-        else if (bit(~x & y, p)) lone = c, j = a, k = b;
-        else {
-          seg_m1_[f][p] = seg_m2_[f][p] = 0;
-          continue;
-        }
-        const int e1 = kEdgeOf[lone][j], e2 = kEdgeOf[lone][k];
+        else if (bit(x, p)) lone = b, j = a, k = c;
+        else lone = c, j = a, k = b;
         seg_lone_[f][p] = static_cast<u8>(lone);
         seg_j_[f][p] = static_cast<u8>(j);
         seg_k_[f][p] = static_cast<u8>(k);
-        seg_m1_[f][p] = em_[e1][p];
-        seg_m2_[f][p] = em_[e2][p];
+        seg_m1_[f][p] = em_[kEdgeOf[lone][j]][p];
+        seg_m2_[f][p] = em_[kEdgeOf[lone][k]][p];
       }
     }
   }
@@ -225,11 +229,13 @@ class Kernel {
   // Seen from P_b the answer must be the same (first part of the proof of Theorem 6).
   void face_line_flags() {
     for (int f = 0; f < 4; ++f) {
+      unsigned d[4];
+      for (int p = 0; p < 4; ++p) d[p] = unsigned(seg_m1_[f][p] ^ seg_m2_[f][p]);
       unsigned from_low = 0, from_high = 0;
       for (int L = 0; L < 6; ++L) {
         const int a = kLines[L][0], b = kLines[L][1];
-        from_low |= unsigned(bit(seg_m1_[f][a] ^ seg_m2_[f][a], b)) << L;
-        from_high |= unsigned(bit(seg_m1_[f][b] ^ seg_m2_[f][b], a)) << L;
+        from_low |= ((d[a] >> b) & 1u) << L;
+        from_high |= ((d[b] >> a) & 1u) << L;
       }
       if (stats_ && from_low != from_high) note_inconsistency();
       fexist_[f] = static_cast<u8>(from_low & from_high);
@@ -501,21 +507,19 @@ bool Kernel::run(KernelResult& out) {
   // intersections with faces of X differ in the sign of the coordinate that is neither the
   // line's nor t's. One line suffices; with statistics on, the other two are checked to agree
   // (end of the proof of Theorem 6).
-  for (int t = 0; t < 4 && (fexist_[0] | fexist_[1] | fexist_[2] | fexist_[3]); ++t) {
+  const unsigned any_line = fexist_[0] | fexist_[1] | fexist_[2] | fexist_[3];
+  for (int t = 0; t < 4 && any_line; ++t) {
     int inside = -1;
-    for (int a = 0; a < 4; ++a)
-      for (int b = a + 1; b < 4; ++b) {
-        if (a == t || b == t || (inside >= 0 && !stats_)) continue;
-        const int r = 6 - a - b - t;
-        const int L = kLineOf[a][b];
-        unsigned s = 0;
-        int n = 0;
-        for (int f = 0; f < 4; ++f)
-          if (bit(fexist_[f], L)) s |= unsigned(bit(fsign_[f][L], r)) << n++;
-        const int here = n == 2 && (s == 1 || s == 2);
-        if (inside >= 0 && here != inside) note_inconsistency();
-        inside = here;
-      }
+    for (int k = 0; k < 3 && (inside < 0 || stats_); ++k) {
+      const int L = kVertexLines[t][k][0], r = kVertexLines[t][k][1];
+      unsigned s = 0;
+      int n = 0;
+      for (int f = 0; f < 4; ++f)
+        if (bit(fexist_[f], L)) s |= unsigned(bit(fsign_[f][L], r)) << n++;
+      const int here = n == 2 && (s == 1 || s == 2);
+      if (inside >= 0 && here != inside) note_inconsistency();
+      inside = here;
+    }
     if (inside == 1) {
       double b[4] = {0.0, 0.0, 0.0, 0.0};
       b[t] = 1.0;
