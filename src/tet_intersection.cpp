@@ -82,6 +82,26 @@ constexpr Triple make_triple(int t) {
 }
 constexpr Triple kTriples[4] = {make_triple(0), make_triple(1), make_triple(2), make_triple(3)};
 
+// For face f and the pattern (sign of b differs from a) | (sign of c differs from a) << 1 of
+// its vertices (a, b, c) in one coordinate: the lone vertex and the other two. Pattern 0 (no
+// segment) maps to a harmless placeholder.
+struct SegmentTable {
+  u8 v[4][4][3];
+};
+constexpr SegmentTable make_segment_table() {
+  SegmentTable t{};
+  for (int f = 0; f < 4; ++f) {
+    const u8 a = static_cast<u8>(kFaceVerts[f][0]), b = static_cast<u8>(kFaceVerts[f][1]),
+             c = static_cast<u8>(kFaceVerts[f][2]);
+    const u8 rows[4][3] = {{a, b, c}, {b, a, c}, {c, a, b}, {a, b, c}};
+    for (int w = 0; w < 4; ++w)
+      for (int k = 0; k < 3; ++k) t.v[f][w][k] = rows[w][k];
+  }
+  return t;
+}
+constexpr SegmentTable kSegmentTable = make_segment_table();
+constexpr const u8 (&kSegmentVerts)[4][4][3] = kSegmentTable.v;
+
 // The three lines of Y through vertex t, each with the coordinate that vanishes at t but not
 // on the line (Section 3.4): {line, coordinate}.
 constexpr int kVertexLines[4][3][2] = {{{kLineOf[2][3], 1}, {kLineOf[1][3], 2}, {kLineOf[1][2], 3}},
@@ -173,8 +193,8 @@ class Kernel {
     cross_[e] = static_cast<u8>(crossed);
     if (!crossed) return;
     int sorted[4], n = 0, comparisons = 0;
-    for (int x = 0; x < 4; ++x) {
-      if (!bit(crossed, x)) continue;
+    for (unsigned rest = crossed; rest; rest &= rest - 1) {
+      const int x = std::countr_zero(rest);
       int pos = n;
       while (pos > 0) {
         ++comparisons;
@@ -186,12 +206,15 @@ class Kernel {
       ++n;
     }
     // Walk along the edge from x_i: each crossing flips one sign to x_j's.
-    unsigned m = sm_[i];
+    unsigned m = sm_[i], on_y = 0;
     for (int r = 0; r < n; ++r) {
       const unsigned b = 1u << sorted[r];
-      em_[e][sorted[r]] = static_cast<u8>(m | b);  // on P_p itself, p = 0: sign 1
+      const unsigned here = m | b;  // on P_p itself, p = 0: sign 1
+      em_[e][sorted[r]] = static_cast<u8>(here);
+      on_y |= unsigned(here == 0xFu) << sorted[r];
       m = (m & ~b) | (sm_[j] & b);
     }
+    edge_corners_ |= on_y << (4 * e);
     if (stats_) {
       stats_->edge_inherited += n * (4 - n);
       stats_->edge_computed += comparisons;
@@ -210,17 +233,16 @@ class Kernel {
       const int a = kFaceVerts[f][0], b = kFaceVerts[f][1], c = kFaceVerts[f][2];
       const unsigned x = sm_[a] ^ sm_[b], y = sm_[a] ^ sm_[c];
       for (int p = 0; p < 4; ++p) {
-        seg_m1_[f][p] = seg_m2_[f][p] = 0;
-        if (!bit(x | y, p)) continue;
-        int lone, j, k;
-        if (bit(x & y, p)) lone = a, j = b, k = c;
-        else if (bit(x, p)) lone = b, j = a, k = c;
-        else lone = c, j = a, k = b;
-        seg_lone_[f][p] = static_cast<u8>(lone);
-        seg_j_[f][p] = static_cast<u8>(j);
-        seg_k_[f][p] = static_cast<u8>(k);
-        seg_m1_[f][p] = em_[kEdgeOf[lone][j]][p];
-        seg_m2_[f][p] = em_[kEdgeOf[lone][k]][p];
+        // Which vertex is alone in its p-sign: none (0), b (1: only a-b differ... and b-c),
+        // c (2), or a (3).
+        const int which = int(bit(x, p)) | (int(bit(y, p)) << 1);
+        const auto& v = kSegmentVerts[f][which];
+        seg_lone_[f][p] = v[0];
+        seg_j_[f][p] = v[1];
+        seg_k_[f][p] = v[2];
+        const u8 m1 = em_[kEdgeOf[v[0]][v[1]]][p], m2 = em_[kEdgeOf[v[0]][v[2]]][p];
+        seg_m1_[f][p] = which ? m1 : u8{0};
+        seg_m2_[f][p] = which ? m2 : u8{0};
       }
     }
   }
@@ -430,7 +452,8 @@ class Kernel {
   double C_[4][4];
   u8 sm_[4];               // sign masks of the vertices of X
   u8 cross_[6] = {0, 0, 0, 0, 0, 0};  // planes crossed by each edge (line 9)
-  u8 em_[6][4];            // sign mask at edge e ∩ P_p
+  std::uint32_t edge_corners_ = 0;     // bit 4e + p: edge e ∩ P_p lies on Y
+  u8 em_[6][4] = {};          // sign mask at edge e ∩ P_p (read as 0 where none)
   u8 seg_m1_[4][4], seg_m2_[4][4];
   u8 seg_lone_[4][4], seg_j_[4][4], seg_k_[4][4];
   u8 fexist_[4] = {0, 0, 0, 0};  // lines met by face f (bit L)
@@ -460,17 +483,14 @@ bool Kernel::run(KernelResult& out) {
 
   // Lines 7-17: edges of X against planes of Y; corners where all signs are 1.
   for (int e = 0; e < 6; ++e) order_edge(e);
-  for (int e = 0; e < 6; ++e) {
-    for (int p = 0; p < 4; ++p) {
-      if (!bit(cross_[e], p) || em_[e][p] != 0xF) continue;
-      double b[4];
-      edge_corner_coords(e, p, b);
-      // Edge ij lies on the two faces of X opposite the vertices it does not contain.
-      const int i = tet_edges[e][0], j = tet_edges[e][1];
-      const int k = (i == 0) ? (j == 1 ? 2 : 1) : 0;
-      const int l = 6 - i - j - k;
-      add_corner(out, b, std::min(k, l), std::max(k, l), 4 + p, kEdgeOfX, e * 4 + p);
-    }
+  for (std::uint32_t rest = edge_corners_; rest; rest &= rest - 1) {
+    const int bitpos = std::countr_zero(rest);
+    const int e = bitpos >> 2, p = bitpos & 3;
+    double b[4];
+    edge_corner_coords(e, p, b);
+    // Edge ij lies on the two faces of X opposite the vertices it does not contain, which are
+    // the vertices of the opposite edge 5 - e.
+    add_corner(out, b, tet_edges[5 - e][0], tet_edges[5 - e][1], 4 + p, kEdgeOfX, e * 4 + p);
   }
 
   // Line 18: faces of X against lines of Y.
@@ -575,9 +595,7 @@ bool build_facets(KernelResult& r) {
       visited |= cb;
       r.facet_index[used++] = static_cast<u8>(cur);
       const u8* cl = r.corners[cur].labels;
-      const int next_label = cl[0] != a && cl[0] != prev_label   ? cl[0]
-                             : cl[1] != a && cl[1] != prev_label ? cl[1]
-                                                                 : cl[2];
+      const int next_label = cl[0] + cl[1] + cl[2] - a - prev_label;  // labels are distinct
       const std::uint32_t pair = here & r.on_plane[next_label] & ~cb;
       if (pair == 0 || (pair & (pair - 1)) != 0) return false;  // exactly one neighbour
       prev_label = next_label;
