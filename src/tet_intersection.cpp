@@ -300,8 +300,8 @@ class Kernel {
   // bit operations. What is left is decided one triple at a time (resolve_triple).
   void decide_face(int f) {
     unsigned undecided_lines = 0;
-    for (int L = 0; L < 6; ++L) {
-      if (!bit(fexist_[f], L)) continue;
+    for (unsigned lines = fexist_[f]; lines; lines &= lines - 1) {
+      const int L = std::countr_zero(lines);
       const int a = kLines[L][0], b = kLines[L][1];
       const unsigned on_line = (1u << a) | (1u << b);
       const unsigned ma = seg_m1_[f][a], mb = seg_m1_[f][b];
@@ -436,9 +436,7 @@ class Kernel {
   // up to the denominator, so normalizing by their sum gives coordinates that sum to 1.
   void face_corner_coords(int f, int a, int b, double (&out)[4]) {
     const int i = seg_lone_[f][a], j = seg_j_[f][a], k = seg_k_[f][a];
-    int rest[2], n = 0;
-    for (int p = 0; p < 4; ++p)
-      if (p != a && p != b) rest[n++] = p;
+    const int rest[2] = {kLines[5 - kLineOf[a][b]][0], kLines[5 - kLineOf[a][b]][1]};  // the opposite edge of Y
     const double n0 = numerator5(rest[0], a, b, i, j, k);
     const double n1 = numerator5(rest[1], a, b, i, j, k);
     const double inv = 1.0 / (n0 + n1);
@@ -457,7 +455,7 @@ class Kernel {
   u8 seg_m1_[4][4], seg_m2_[4][4];
   u8 seg_lone_[4][4], seg_j_[4][4], seg_k_[4][4];
   u8 fexist_[4] = {0, 0, 0, 0};  // lines met by face f (bit L)
-  u8 fsign_[4][6];               // sign mask at face f ∩ line L
+  u8 fsign_[4][6] = {};          // sign mask at face f ∩ line L
   u8 undecided_[4][6];           // coordinates of face f ∩ line L not inherited
   bool consistent_ = true;
   IntersectionStats* stats_;
@@ -514,8 +512,10 @@ bool Kernel::run(KernelResult& out) {
   for (int f = 0; f < 4; ++f) {
     if (!fexist_[f]) continue;
     decide_face(f);
-    for (int L = 0; L < 6; ++L) {
-      if (!bit(fexist_[f], L) || fsign_[f][L] != 0xF) continue;
+    unsigned on_y = 0;
+    for (int L = 0; L < 6; ++L) on_y |= unsigned(fsign_[f][L] == 0xF) << L;
+    for (unsigned rest = on_y & fexist_[f]; rest; rest &= rest - 1) {
+      const int L = std::countr_zero(rest);
       const int a = kLines[L][0], b = kLines[L][1];
       double bary[4];
       face_corner_coords(f, a, b, bary);
