@@ -42,6 +42,7 @@ IntersectionStats& IntersectionStats::operator+=(const IntersectionStats& o) {
   guardrail_clamps += o.guardrail_clamps;
   reference_swaps += o.reference_swaps;
   inconsistencies += o.inconsistencies;
+  retries += o.retries;
   calls += o.calls;
   return *this;
 }
@@ -135,6 +136,7 @@ struct KernelResult {
   u8 facet_label[8];
   u8 facet_begin[9];
   u8 facet_index[Polyhedron::max_facet_indices];
+  bool contradiction = false;              // a sign relation failed (checked with statistics)
   double ref_volume = 0.0;                // volume in the reference frame (Y has volume 1/6)
   double ref_first[3] = {0.0, 0.0, 0.0};  // first moments in the reference frame
 };
@@ -146,12 +148,14 @@ class Kernel {
  public:
   Kernel(const double (&C)[4][4], IntersectionStats* stats) : stats_(stats) {
     for (int i = 0; i < 4; ++i) {
-      unsigned m = 0;
+      unsigned m = 0, pos = 0;
       for (int p = 0; p < 4; ++p) {
         C_[i][p] = C[i][p];
         m |= unsigned(C[i][p] >= 0.0) << p;  // binary sign, Section 1
+        pos |= unsigned(C[i][p] > 0.0) << p;
       }
       sm_[i] = static_cast<u8>(m);
+      pm_[i] = static_cast<u8>(pos);
     }
   }
 
@@ -370,10 +374,7 @@ class Kernel {
         fsign_[f][T.line[s]] = static_cast<u8>(fsign_[f][T.line[s]] | (value[s] << T.slot[s][2]));
   }
 
-  void note_inconsistency() {
-    consistent_ = false;
-    if (stats_) ++stats_->inconsistencies;
-  }
+  void note_inconsistency() { consistent_ = false; }
 
   // --- corners ------------------------------------------------------------------------------
 
@@ -422,33 +423,59 @@ class Kernel {
     for (int p = 0; p < 4; ++p) b[p] = bit(zero_mask, p) ? 0.0 : 1.0 / free;
   }
 
-  // Coordinates of the corner where edge e meets P_p, eq. (2).
+  // The point where edge (s, o) of X meets P_p, s the vertex with p >= 0 and o the one with
+  // p < 0: eq. (2) written as s + t (o - s), t = p_s / (p_s - p_o). The denominator is at least
+  // |p_o| > 0 and t lies in [0, 1), so the point stays on the edge whatever the rounding; when
+  // p_s is exactly 0 (a vertex on the plane, as on shared faces) it is the vertex exactly.
+  void edge_point(int i, int j, int p, double (&b)[4]) const {
+    const int s = bit(sm_[i], p) ? i : j, o = s == i ? j : i;
+    const double t = C_[s][p] / (C_[s][p] - C_[o][p]);
+    for (int q = 0; q < 4; ++q) b[q] = C_[s][q] + t * (C_[o][q] - C_[s][q]);
+    b[p] = 0.0;
+  }
+
+  // Coordinates of the corner where edge e meets P_p.
   void edge_corner_coords(int e, int p, double (&b)[4]) {
-    const int i = tet_edges[e][0], j = tet_edges[e][1];
-    const double inv = 1.0 / (C_[i][p] - C_[j][p]);
-    for (int q = 0; q < 4; ++q)
-      b[q] = q == p ? 0.0 : (C_[j][q] * C_[i][p] - C_[i][q] * C_[j][p]) * inv;
+    edge_point(tet_edges[e][0], tet_edges[e][1], p, b);
     if (stats_) stats_->corner_coordinates += 3;
     guardrail(b, 1u << p);
   }
 
-  // Coordinates of the corner where face f meets P_a ∩ P_b, eq. (5). The two numerators add
-  // up to the denominator, so normalizing by their sum gives coordinates that sum to 1.
+  // Coordinates of the corner where face f meets P_a ∩ P_b. Eq. (5) is 0/0 when the face
+  // contains the line (an edge of V lying in a face of U), and then places the point anywhere
+  // on the line, outside X too. The recursive form, eq. (4), interpolates between the two ends
+  // E1, E2 of the segment (f ∩ P_a) instead: whatever the rounding, the point stays on that
+  // segment, that is on the face of X. Of the two segments through the point (in P_a and in
+  // P_b) the one crossing the line more steeply is used. The point's value is computed once
+  // per corner, so the choice cannot make two parts of the algorithm disagree; the decisions
+  // were all taken on signs.
   void face_corner_coords(int f, int a, int b, double (&out)[4]) {
-    const int i = seg_lone_[f][a], j = seg_j_[f][a], k = seg_k_[f][a];
-    const int rest[2] = {kLines[5 - kLineOf[a][b]][0], kLines[5 - kLineOf[a][b]][1]};  // the opposite edge of Y
-    const double n0 = numerator5(rest[0], a, b, i, j, k);
-    const double n1 = numerator5(rest[1], a, b, i, j, k);
-    const double inv = 1.0 / (n0 + n1);
+    double best = -1.0;
+    for (const int view : {a, b}) {
+      const int cut = view == a ? b : a;  // the coordinate that vanishes along the segment
+      const int i = seg_lone_[f][view], j = seg_j_[f][view], k = seg_k_[f][view];
+      double e1[4], e2[4];
+      edge_point(i, j, view, e1);
+      edge_point(i, k, view, e2);
+      // Interpolate from the end with cut >= 0 to the one with cut < 0, as decided by signs.
+      const bool first_nonneg = bit(seg_m1_[f][view], cut);
+      const double* s = first_nonneg ? e1 : e2;
+      const double* o = first_nonneg ? e2 : e1;
+      const double cs = std::max(s[cut], 0.0), co = std::min(o[cut], 0.0);
+      const double den = cs - co;
+      if (!(den > best)) continue;
+      best = den;
+      const double t = den > 0.0 ? cs / den : 0.5;
+      for (int q = 0; q < 4; ++q) out[q] = s[q] + t * (o[q] - s[q]);
+    }
     out[a] = out[b] = 0.0;
-    out[rest[0]] = n0 * inv;
-    out[rest[1]] = n1 * inv;
     if (stats_) stats_->corner_coordinates += 2;
     guardrail(out, (1u << a) | (1u << b));
   }
 
   double C_[4][4];
   u8 sm_[4];               // sign masks of the vertices of X
+  u8 pm_[4];               // strict positivity masks (coordinate > 0)
   u8 cross_[6] = {0, 0, 0, 0, 0, 0};  // planes crossed by each edge (line 9)
   std::uint32_t edge_corners_ = 0;     // bit 4e + p: edge e ∩ P_p lies on Y
   u8 em_[6][4] = {};          // sign mask at edge e ∩ P_p (read as 0 where none)
@@ -467,7 +494,11 @@ bool Kernel::run(KernelResult& out) {
   for (auto& m : out.on_plane) m = 0;
 
   // Lines 2-6 (Snippet 2): an empty intersection if X lies on the negative side of a plane.
-  if ((sm_[0] | sm_[1] | sm_[2] | sm_[3]) != 0xF) return true;
+  // The same holds, for the volume, when no vertex is strictly on the positive side: X ∩ Y
+  // then lies in the plane. That is the case of two tetrahedra sharing a face from opposite
+  // sides, whose shared vertices have coordinate exactly 0 (BarycentricMap); the answer is
+  // then exactly zero instead of a flat sliver of rounding-sized volume.
+  if ((sm_[0] | sm_[1] | sm_[2] | sm_[3]) != 0xF || (pm_[0] | pm_[1] | pm_[2] | pm_[3]) != 0xF) return true;
 
   // Vertices of X inside Y: all four binary signs are 1 (Section 3.1). A vertex lies on the
   // three faces of X that contain it.
@@ -719,19 +750,41 @@ double shape_quality(const Tet& t, double& det6) {
   return std::abs(det6) / (s * std::sqrt(s));
 }
 
-// Barycentric coordinates of point u in tetrahedron r (orientation determinant det6), eq. (1)
-// solved by Cramer's rule on the differences d_k = r_k - u. Forming the differences from u
-// translates to the point first (Section 2), and when u coincides with a vertex of r the
-// difference is an exact zero vector, so the coordinates of the faces through that vertex come
-// out exactly 0: shared vertices, shared faces and identical tetrahedra are then exact.
-inline void barycentric(const Tet& r, double inv_det6, Vec3 u, double (&out)[4]) {
-  const Vec3 d0 = r[0] - u, d1 = r[1] - u, d2 = r[2] - u, d3 = r[3] - u;
-  const Vec3 a = cross(d2, d3), b = cross(d0, d1);
-  out[0] = dot(d1, a) * inv_det6;
-  out[1] = -dot(d0, a) * inv_det6;
-  out[2] = dot(d3, b) * inv_det6;
-  out[3] = -dot(d2, b) * inv_det6;
-}
+// The change of coordinates of Section 2, eq. (1), one face at a time: coordinate k of a point
+// u is the signed distance of u from the face opposite vertex k, (u - a_k) . n_k, divided by
+// that of vertex k. Each face is translated to its own first vertex a_k before anything else,
+// as Section 2 advises, so the normals n_k are accurate for the face's own size and a point far
+// away (a big tetrahedron mapped into a tiny reference) keeps full relative accuracy; forming
+// the determinants around u instead would cancel catastrophically there. A point equal to a
+// vertex of the reference gets that vertex's coordinates exactly (1 and three exact zeros):
+// shared vertices, shared faces and identical tetrahedra, the normal case on conforming meshes,
+// are then decided exactly rather than by rounding.
+struct BarycentricMap {
+  Vec3 vertex[4];
+  Vec3 anchor[4];
+  Vec3 normal[4];
+  double scale[4];  // +-1 / det6 with the sign that makes coordinate k of vertex k positive
+
+  BarycentricMap(const Tet& r, double det6) {
+    const double inv = 1.0 / det6;
+    for (int k = 0; k < 4; ++k) {
+      vertex[k] = r[k];
+      const Vec3 f0 = r[kFaceVerts[k][0]], f1 = r[kFaceVerts[k][1]], f2 = r[kFaceVerts[k][2]];
+      anchor[k] = f0;
+      normal[k] = cross(f1 - f0, f2 - f0);
+      // (r_k - f0) . n_k = orient3d(f0, f1, f2, r_k) = (-1)^(k+1) det6.
+      scale[k] = (k % 2 == 0) ? -inv : inv;
+    }
+  }
+
+  void operator()(Vec3 u, double (&out)[4]) const {
+    for (int k = 0; k < 4; ++k) out[k] = dot(u - anchor[k], normal[k]) * scale[k];
+    for (int k = 0; k < 4; ++k)
+      if (u == vertex[k]) {
+        for (int q = 0; q < 4; ++q) out[q] = q == k ? 1.0 : 0.0;
+      }
+  }
+};
 
 // The frame of the reference tetrahedron and X's barycentric coordinates in it.
 struct Frame {
@@ -745,7 +798,7 @@ struct Frame {
 // Picks the reference (the better-conditioned tetrahedron; ties broken by comparing the
 // coordinates, so that (U, V) and (V, U) always choose the same one) and computes X.
 // Returns false for flat or non-finite input: the intersection is then empty.
-bool make_frame(const Tet& U, const Tet& V, Frame& fr) {
+bool make_frame(const Tet& U, const Tet& V, Frame& fr, bool other_reference = false) {
   double detU, detV;
   const double qU = shape_quality(U, detU), qV = shape_quality(V, detV);
   // Non-finite coordinates make a quality NaN or infinite; flat ones make it zero.
@@ -756,27 +809,29 @@ bool make_frame(const Tet& U, const Tet& V, Frame& fr) {
     const double* pv = &V[0].x;
     use_u = std::lexicographical_compare(pu, pu + 12, pv, pv + 12);
   }
+  use_u = use_u != other_reference;
   fr.swapped = use_u;
   fr.sub = use_u ? &V : &U;
   fr.ref = use_u ? &U : &V;
   fr.det6 = use_u ? detU : detV;
-  const double inv = 1.0 / fr.det6;
+  const BarycentricMap bary(*fr.ref, fr.det6);
   double probe = 0.0;  // stays 0 unless a coordinate is infinite or NaN
   for (int i = 0; i < 4; ++i) {
-    barycentric(*fr.ref, inv, (*fr.sub)[i], fr.C[i]);
+    bary((*fr.sub)[i], fr.C[i]);
     for (int p = 0; p < 4; ++p) probe += fr.C[i][p] * 0.0;
   }
   return probe == 0.0;
 }
 
-// Runs the kernel on a prepared frame. If the labels do not close up (never observed: see
-// Kernel::run) the result is empty and, with statistics, counted.
+// Runs the kernel on a prepared frame. Returns false if the labels do not close up into a
+// simple polytope (see Kernel::run and build_facets); the result is then empty.
 template <bool kMoments>
 bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* stats) {
   Kernel k(C, stats);
-  const bool ok = k.run(res) && build_facets(res);
+  k.run(res);
+  res.contradiction = !k.consistent();  // looked for only with statistics
+  const bool ok = build_facets(res);
   if (!ok) {
-    if (stats && k.consistent()) ++stats->inconsistencies;
     res.num_corners = 0;
     res.num_facets = 0;
     res.ref_volume = 0.0;
@@ -785,6 +840,28 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
   }
   reference_moments<kMoments>(res);
   return true;
+}
+
+// The kernel with its one repair: rounding in a degenerate configuration (an edge of one
+// tetrahedron lying in a face of the other, say) can leave sign decisions that Theorem 6's
+// relations accept but that no polytope realizes; the labels then do not close up. The other
+// tetrahedron is then taken as the reference, which rounds differently and in the tests has
+// always given a closed polytope. Only if that fails too is the result empty (and counted).
+template <bool kMoments>
+bool solve(const Tet& U, const Tet& V, Frame& fr, KernelResult& res, IntersectionStats* stats) {
+  if (!make_frame(U, V, fr)) {
+    res.num_corners = res.num_facets = 0;
+    res.ref_volume = 0.0;
+    return false;
+  }
+  if (stats && fr.swapped) ++stats->reference_swaps;
+  bool ok = run_kernel<kMoments>(fr.C, res, stats);
+  if (!ok) {
+    if (stats) ++stats->retries;
+    ok = make_frame(U, V, fr, true) && run_kernel<kMoments>(fr.C, res, stats);
+  }
+  if (stats && (!ok || res.contradiction)) ++stats->inconsistencies;
+  return ok;
 }
 
 Moments original_moments(const Frame& fr, const KernelResult& res) {
@@ -839,7 +916,8 @@ struct PolyhedronBuilder {
     const Vec3 a1 = r[1] - r[0], a2 = r[2] - r[0], a3 = r[3] - r[0];
     P.num_corners_ = res.num_corners;
     const Tet& V = fr.swapped ? *fr.sub : *fr.ref;
-    const double invV = fr.swapped ? 1.0 / orient3d(V[0], V[1], V[2], V[3]) : 0.0;
+    const double detV = fr.swapped ? orient3d(V[0], V[1], V[2], V[3]) : 1.0;
+    const detail::BarycentricMap bary_v(V, detV);
     for (int c = 0; c < res.num_corners; ++c) {
       const RawCorner& rc = res.corners[c];
       Corner& out = P.corners_[static_cast<std::size_t>(c)];
@@ -864,7 +942,7 @@ struct PolyhedronBuilder {
       if (rc.kind == detail::kVertexOfX) {
         for (int p = 0; p < 4; ++p) b[p] = p == rc.index ? 1.0 : 0.0;
       } else {
-        detail::barycentric(V, invV, out.point, b);
+        bary_v(out.point, b);
       }
       double sum = 0.0;
       for (int p = 0; p < 4; ++p) {
@@ -904,10 +982,8 @@ Polyhedron intersect(const Tet& U, const Tet& V, IntersectionStats* stats) {
   Polyhedron P;
   if (stats) ++stats->calls;
   detail::Frame fr;
-  if (!detail::make_frame(U, V, fr)) return P;
-  if (stats && fr.swapped) ++stats->reference_swaps;
   detail::KernelResult res;
-  if (!detail::run_kernel<true>(fr.C, res, stats)) return P;
+  if (!detail::solve<true>(U, V, fr, res, stats)) return P;
   if (!PolyhedronBuilder::fill(P, fr, res)) {
     if (stats) ++stats->inconsistencies;
     return Polyhedron{};
@@ -917,17 +993,15 @@ Polyhedron intersect(const Tet& U, const Tet& V, IntersectionStats* stats) {
 
 double intersection_volume(const Tet& U, const Tet& V) {
   detail::Frame fr;
-  if (!detail::make_frame(U, V, fr)) return 0.0;
   detail::KernelResult res;
-  detail::run_kernel<false>(fr.C, res, nullptr);
+  if (!detail::solve<false>(U, V, fr, res, nullptr)) return 0.0;
   return res.ref_volume * std::abs(fr.det6);
 }
 
 Moments intersection_moments(const Tet& U, const Tet& V) {
   detail::Frame fr;
-  if (!detail::make_frame(U, V, fr)) return {};
   detail::KernelResult res;
-  detail::run_kernel<true>(fr.C, res, nullptr);
+  if (!detail::solve<true>(U, V, fr, res, nullptr)) return {};
   return detail::original_moments(fr, res);
 }
 

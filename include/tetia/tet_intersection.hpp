@@ -38,7 +38,9 @@ struct IntersectionStats {
   std::int64_t corner_coordinates = 0;
   std::int64_t guardrail_clamps = 0;    ///< Section 4.1.1
   std::int64_t reference_swaps = 0;     ///< U was better conditioned and became the reference
-  std::int64_t inconsistencies = 0;     ///< label/sign contradictions; Theorem 6 says never
+  std::int64_t inconsistencies = 0;     ///< sign or label contradictions left in the result
+  std::int64_t retries = 0;             ///< first attempts whose labels did not close up,
+                                        ///< redone with the other reference (see solve())
   std::int64_t calls = 0;
 
   IntersectionStats& operator+=(const IntersectionStats& o);
