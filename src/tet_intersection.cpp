@@ -446,12 +446,15 @@ class Kernel {
   // on the line, outside X too. The recursive form, eq. (4), interpolates between the two ends
   // E1, E2 of the segment (f ∩ P_a) instead: whatever the rounding, the point stays on that
   // segment, that is on the face of X. Of the two segments through the point (in P_a and in
-  // P_b) the one crossing the line more steeply is used. The point's value is computed once
+  // P_b) the one in P_a is used unless it is nearly parallel to the line; then the steeper. The point's value is computed once
   // per corner, so the choice cannot make two parts of the algorithm disagree; the decisions
   // were all taken on signs.
   void face_corner_coords(int f, int a, int b, double (&out)[4]) {
     double best = -1.0;
     for (const int view : {a, b}) {
+      // A segment crossing the line at a clear angle is good enough; the second view is only
+      // looked at when the first is nearly parallel to the line.
+      if (best > 0x1p-10) break;
       const int cut = view == a ? b : a;  // the coordinate that vanishes along the segment
       const int i = seg_lone_[f][view], j = seg_j_[f][view], k = seg_k_[f][view];
       double e1[4], e2[4];
@@ -605,12 +608,22 @@ void Kernel::export_signs(KernelTrace& t) const {
 // planes). With the corners of each plane as a bit mask, the neighbour of corner c across the
 // pair {a, b} is the other bit of on_plane[a] & on_plane[b]. Returns false if the labels do not
 // describe a closed simple polytope (each pair of planes shared by no corner or by two).
+template <bool kVolume>
 bool build_facets(KernelResult& r) {
   const int n = r.num_corners;
   r.num_facets = 0;
   r.facet_begin[0] = 0;
   if (n == 0) return true;
   if (n < 4) return false;
+  // With kVolume, each facet's fan is joined to the mean of the corners while it is walked
+  // (see fan_moments for why absolute values per facet).
+  double o[3] = {0.0, 0.0, 0.0}, vol6 = 0.0;
+  if constexpr (kVolume) {
+    for (int c = 0; c < n; ++c)
+      for (int k = 0; k < 3; ++k) o[k] += r.corners[c].bary[k + 1];
+    const double inv = 1.0 / n;
+    for (double& x : o) x *= inv;
+  }
   int used = 0;
   for (int a = 0; a < 8; ++a) {
     const std::uint32_t here = r.on_plane[a];
@@ -618,13 +631,25 @@ bool build_facets(KernelResult& r) {
     const int start = std::countr_zero(here);
     const u8* l = r.corners[start].labels;
     int prev_label = l[0] == a ? l[1] : l[0];
-    int cur = start;
+    int cur = start, prev = -1;
     std::uint32_t visited = 0;
+    double fv = 0.0, ax = 0.0, ay = 0.0, az = 0.0, bx = 0.0, by = 0.0, bz = 0.0;
     do {
       const std::uint32_t cb = 1u << cur;
       if (visited & cb) return false;
       visited |= cb;
       r.facet_index[used++] = static_cast<u8>(cur);
+      if constexpr (kVolume) {
+        const double* p = r.corners[cur].bary;
+        const double cx = p[1] - o[0], cy = p[2] - o[1], cz = p[3] - o[2];
+        if (prev < 0) {
+          ax = cx, ay = cy, az = cz;
+        } else if (prev != start) {
+          fv += ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+        }
+        bx = cx, by = cy, bz = cz;
+        prev = cur;
+      }
       const u8* cl = r.corners[cur].labels;
       const int next_label = cl[0] + cl[1] + cl[2] - a - prev_label;  // labels are distinct
       const std::uint32_t pair = here & r.on_plane[next_label] & ~cb;
@@ -636,7 +661,9 @@ bool build_facets(KernelResult& r) {
     if (visited != here || r.facet_begin[r.num_facets] + 3 > used) return false;
     r.facet_label[r.num_facets] = static_cast<u8>(a);
     r.facet_begin[++r.num_facets] = static_cast<u8>(used);
+    vol6 += std::abs(fv);
   }
+  if constexpr (kVolume) r.ref_volume = vol6 / 6.0;
   // Euler's formula for a simple polytope: F = V/2 + 2.
   return 2 * r.num_facets == n + 4;
 }
@@ -703,7 +730,8 @@ double fan_moments(const KernelResult& r, double& vol6, double (&m)[3]) {
   double o[3] = {0.0, 0.0, 0.0};
   for (int c = 0; c < r.num_corners; ++c)
     for (int k = 0; k < 3; ++k) o[k] += r.corners[c].bary[k + 1];
-  for (double& x : o) x /= r.num_corners;
+  const double inv = 1.0 / r.num_corners;  // as in build_facets: the same rounding
+  for (double& x : o) x *= inv;
   double signed6 = 0.0;
   for (int f = 0; f < r.num_facets; ++f) {
     const int b = r.facet_begin[f], e = r.facet_begin[f + 1];
@@ -830,7 +858,7 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
   Kernel k(C, stats);
   k.run(res);
   res.contradiction = !k.consistent();  // looked for only with statistics
-  const bool ok = build_facets(res);
+  const bool ok = build_facets<!kMoments>(res);
   if (!ok) {
     res.num_corners = 0;
     res.num_facets = 0;
@@ -838,7 +866,7 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
     res.ref_first[0] = res.ref_first[1] = res.ref_first[2] = 0.0;
     return false;
   }
-  reference_moments<kMoments>(res);
+  if constexpr (kMoments) reference_moments<true>(res);
   return true;
 }
 
@@ -888,7 +916,7 @@ void trace_kernel(const double (&C)[4][4], KernelTrace& t, IntersectionStats* st
       if (x < 3) t.labels[static_cast<std::size_t>(c)][static_cast<std::size_t>(x)] = res.corners[c].labels[x];
       t.bary[static_cast<std::size_t>(c)][static_cast<std::size_t>(x)] = res.corners[c].bary[x];
     }
-  t.consistent = ran && build_facets(res) && (res.num_facets == 0 || orient_facets(res));
+  t.consistent = ran && build_facets<false>(res) && (res.num_facets == 0 || orient_facets(res));
   if (t.consistent) reference_moments<true>(res);
   t.num_facets = res.num_facets;
   t.volume = res.ref_volume;
