@@ -62,6 +62,7 @@ constexpr int kLineOf[4][4] = {{-1, 0, 1, 2}, {0, -1, 3, 4}, {1, 3, -1, 5}, {2, 
 constexpr int kFaceVerts[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
 
 constexpr bool bit(unsigned mask, int k) { return (mask >> k) & 1u; }
+constexpr u8 kPopcount4[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
 
 // The triple of face-line intersections around vertex t of Y (Section 3.3, Fig. 3): with
 // p < q < r the other three planes, slot s is the point F(f, {a, b}) on line[s] and its
@@ -137,6 +138,8 @@ struct KernelResult {
   u8 facet_begin[9];
   u8 facet_index[Polyhedron::max_facet_indices];
   bool contradiction = false;              // a sign relation failed (checked with statistics)
+  double facet_volume6[8];                // signed fan volumes (x6) of the facets as stored
+  double coordinate_scale = 1.0;          // largest |coordinate| of X's vertices
   double ref_volume = 0.0;                // volume in the reference frame (Y has volume 1/6)
   double ref_first[3] = {0.0, 0.0, 0.0};  // first moments in the reference frame
 };
@@ -196,6 +199,7 @@ class Kernel {
     const unsigned crossed = unsigned(sm_[i] ^ sm_[j]);
     cross_[e] = static_cast<u8>(crossed);
     if (!crossed) return;
+    if (!stats_ && order_edge_by_pairs(e, i, j, crossed)) return;
     int sorted[4], n = 0, comparisons = 0;
     for (unsigned rest = crossed; rest; rest &= rest - 1) {
       const int x = std::countr_zero(rest);
@@ -225,6 +229,41 @@ class Kernel {
       stats_->edge_paired += comparisons;
       stats_->edge_straight_line += n * (n - 1) - 2 * comparisons;
     }
+  }
+
+  // The same order, found without branching on the data (the fast path when no statistics
+  // are kept): every pair of crossed planes y < x is compared once, by the same computation
+  // the sort would make, and each plane's rank is the number of planes crossed before it. When
+  // the comparisons are transitive this is the order the sort finds, so both paths give the
+  // same signs; when rounding makes them cyclic (ranks collide), the sort above decides, as
+  // the straight line principle requires. Returns false in that case.
+  bool order_edge_by_pairs(int e, int i, int j, unsigned crossed) {
+    // before[p] bit q: P_p is crossed before P_q. Pairs (y, x), y < x, in the sort's form.
+    unsigned before[4] = {0, 0, 0, 0};
+    for (int y = 0; y < 3; ++y)
+      for (int x = y + 1; x < 4; ++x) {
+        const unsigned both = bit(crossed, x) & bit(crossed, y);
+        const unsigned yx = unsigned(crosses_before(i, j, y, x)) & both;
+        const unsigned xy = (yx ^ 1u) & both;
+        before[y] |= yx << x;
+        before[x] |= xy << y;
+      }
+    unsigned ranks = 0;  // one bit per rank taken
+    const unsigned si = sm_[i], sj = sm_[j];
+    unsigned on_y = 0;
+    for (int p = 0; p < 4; ++p) {
+      const unsigned cp = bit(crossed, p);
+      const unsigned earlier = crossed & ~before[p] & ~(1u << p);  // crossed before p
+      ranks |= cp << kPopcount4[earlier];
+      // At the crossing with P_p: planes not crossed keep x_i's sign (Lemma 3), planes
+      // crossed later still have x_i's, planes crossed earlier have x_j's; p itself is 0.
+      const unsigned here = ((si & ~earlier) | (sj & earlier) | (1u << p)) & 0xFu;
+      em_[e][p] = static_cast<u8>(here);
+      on_y |= (cp & unsigned(here == 0xFu)) << p;
+    }
+    if (ranks != (1u << kPopcount4[crossed]) - 1u) return false;  // not a total order
+    edge_corners_ |= on_y << (4 * e);
+    return true;
   }
 
   // --- Section 3.3: faces of X against the lines of Y --------------------------------------
@@ -304,8 +343,7 @@ class Kernel {
   // bit operations. What is left is decided one triple at a time (resolve_triple).
   void decide_face(int f) {
     unsigned undecided_lines = 0;
-    for (unsigned lines = fexist_[f]; lines; lines &= lines - 1) {
-      const int L = std::countr_zero(lines);
+    for (int L = 0; L < 6; ++L) {  // all six, without branching; unused for absent lines
       const int a = kLines[L][0], b = kLines[L][1];
       const unsigned on_line = (1u << a) | (1u << b);
       const unsigned ma = seg_m1_[f][a], mb = seg_m1_[f][b];
@@ -314,11 +352,19 @@ class Kernel {
       fsign_[f][L] = static_cast<u8>(on_line | (ma & ~da) | (mb & ~db & da));
       const unsigned undecided = da & db & ~on_line & 0xFu;
       undecided_[f][L] = static_cast<u8>(undecided);
-      if (undecided) undecided_lines |= 1u << L;
-      if (stats_) {
+      undecided_lines |= unsigned(undecided != 0) << L;
+    }
+    undecided_lines &= fexist_[f];
+    if (stats_) {
+      for (unsigned lines = fexist_[f]; lines; lines &= lines - 1) {
+        const int L = std::countr_zero(lines);
+        const int a = kLines[L][0], b = kLines[L][1];
+        const unsigned on_line = (1u << a) | (1u << b);
+        const unsigned ma = seg_m1_[f][a], mb = seg_m1_[f][b];
+        const unsigned da = ma ^ seg_m2_[f][a], db = mb ^ seg_m2_[f][b];
         const unsigned both = ~da & ~db & ~on_line & 0xFu;  // inherited twice: must agree
         if ((ma ^ mb) & both) note_inconsistency();
-        stats_->face_inherited += 2 - std::popcount(undecided);
+        stats_->face_inherited += 2 - kPopcount4[undecided_[f][L]];
       }
     }
     if (!undecided_lines) return;
@@ -668,48 +714,73 @@ bool build_facets(KernelResult& r) {
   return 2 * r.num_facets == n + 4;
 }
 
-// Orients the facets consistently: each edge is walked in opposite directions by its two
-// facets. Facet 0 keeps its direction; the others follow breadth first across shared edges;
-// the global sign is fixed by the sign of the volume (reference_moments). Returns false if
-// the surface is not orientable as labelled (never, for a simple polytope).
-bool orient_facets(KernelResult& r) {
+// Orients the facets outward (in the reference frame) and consistently: each edge is walked in
+// opposite directions by its two facets. A facet whose fan, joined to the mean of the corners,
+// has a volume well above rounding is oriented by the sign of that volume (computed anyway for
+// the moments). The others, the flat facets of degenerate intersections, take the orientation
+// the combinatorics impose, propagated breadth first across shared edges from the oriented
+// ones; with `check`, that propagation runs over every facet and verifies that geometry and
+// labels agree everywhere. Returns false if they do not (never seen in the tests).
+bool orient_facets(KernelResult& r, bool check) {
   const int F = r.num_facets;
-  // succ[c][a]: the corner after c in the facet of plane a, as stored.
-  u8 succ[KernelResult::kMaxCorners][8];
-  int facet_of[8];
-  for (int f = 0; f < F; ++f) {
-    facet_of[r.facet_label[f]] = f;
-    const int b = r.facet_begin[f], e = r.facet_begin[f + 1];
-    for (int k = b; k < e; ++k) succ[r.facet_index[k]][r.facet_label[f]] = r.facet_index[k + 1 < e ? k + 1 : b];
-  }
   std::int8_t dir[8] = {0, 0, 0, 0, 0, 0, 0, 0};
   int queue[8], head = 0, tail = 0;
-  dir[0] = 1;
-  queue[tail++] = 0;
-  while (head < tail) {
-    const int f = queue[head++];
-    const int a = r.facet_label[f];
-    const int b = r.facet_begin[f], e = r.facet_begin[f + 1];
-    for (int k = b; k < e; ++k) {
-      int u = r.facet_index[k], v = r.facet_index[k + 1 < e ? k + 1 : b];
-      if (dir[f] < 0) std::swap(u, v);  // the edge u -> v as oriented in f
-      // The neighbour across uv: the plane u and v share besides a.
-      const std::uint32_t both = (1u << u) | (1u << v);
-      int g_label = -1;
-      for (const u8 l : r.corners[u].labels)
-        if (l != a && (r.on_plane[l] & both) == both) g_label = l;
-      if (g_label < 0) return false;
-      const int g = facet_of[g_label];
-      const std::int8_t want = succ[v][g_label] == u ? 1 : -1;  // g must walk v -> u
-      if (dir[g] == 0) {
-        dir[g] = want;
-        queue[tail++] = g;
-      } else if (dir[g] != want) {
-        return false;
-      }
+  // In the reference frame every corner lies in Y (coordinates in [0, 1]); a corner computed
+  // from X's coordinates is accurate to about the unit roundoff times their magnitude, and so
+  // is a fan volume. Facets 2^12 times above that are trusted.
+  const double trust = 0x1p-40 * std::max(1.0, r.coordinate_scale);
+  for (int f = 0; f < F; ++f) {
+    const double v = r.facet_volume6[f];
+    if (std::abs(v) > trust) {
+      dir[f] = v > 0.0 ? 1 : -1;
+      queue[tail++] = f;
     }
   }
-  if (tail != F) return false;
+  const bool seeded = tail > 0;
+  if (tail < F || check) {
+    if (!seeded) {  // a tiny or flat polytope: orient combinatorially, then by the total
+      dir[0] = 1;
+      queue[tail++] = 0;
+    }
+    // succ[c][a]: the corner after c in the facet of plane a, as stored.
+    u8 succ[KernelResult::kMaxCorners][8];
+    int facet_of[8];
+    for (int f = 0; f < F; ++f) {
+      facet_of[r.facet_label[f]] = f;
+      const int b = r.facet_begin[f], e = r.facet_begin[f + 1];
+      for (int k = b; k < e; ++k) succ[r.facet_index[k]][r.facet_label[f]] = r.facet_index[k + 1 < e ? k + 1 : b];
+    }
+    while (head < tail) {
+      const int f = queue[head++];
+      const int a = r.facet_label[f];
+      const int b = r.facet_begin[f], e = r.facet_begin[f + 1];
+      for (int k = b; k < e; ++k) {
+        int u = r.facet_index[k], v = r.facet_index[k + 1 < e ? k + 1 : b];
+        if (dir[f] < 0) std::swap(u, v);  // the edge u -> v as oriented in f
+        // The neighbour across uv: the plane u and v share besides a.
+        const std::uint32_t both = (1u << u) | (1u << v);
+        int g_label = -1;
+        for (const u8 l : r.corners[u].labels)
+          if (l != a && (r.on_plane[l] & both) == both) g_label = l;
+        if (g_label < 0) return false;
+        const int g = facet_of[g_label];
+        const std::int8_t want = succ[v][g_label] == u ? 1 : -1;  // g must walk v -> u
+        if (dir[g] == 0) {
+          dir[g] = want;
+          queue[tail++] = g;
+        } else if (dir[g] != want) {
+          return false;
+        }
+      }
+    }
+    if (tail != F) return false;
+    if (!seeded) {  // no facet was trusted: the sign of the whole decides
+      double signed6 = 0.0;
+      for (int f = 0; f < F; ++f) signed6 += dir[f] * r.facet_volume6[f];
+      if (signed6 < 0.0)
+        for (int f = 0; f < F; ++f) dir[f] = static_cast<std::int8_t>(-dir[f]);
+    }
+  }
   for (int f = 0; f < F; ++f)
     if (dir[f] < 0) std::reverse(r.facet_index + r.facet_begin[f], r.facet_index + r.facet_begin[f + 1]);
   return true;
@@ -723,7 +794,7 @@ bool orient_facets(KernelResult& r) {
 // a convex polytope, so its absolute value is taken and the facets' walking directions do not
 // matter. Returns six times the signed volume as the facets are stored (for orientation).
 template <bool kMoments>
-double fan_moments(const KernelResult& r, double& vol6, double (&m)[3]) {
+double fan_moments(KernelResult& r, double& vol6, double (&m)[3]) {
   vol6 = 0.0;
   m[0] = m[1] = m[2] = 0.0;
   if (r.num_facets == 0) return 0.0;
@@ -749,6 +820,7 @@ double fan_moments(const KernelResult& r, double& vol6, double (&m)[3]) {
         for (int c = 0; c < 3; ++c) fm[c] += d * (o[c] + p0[c + 1] + p1[c + 1] + p2[c + 1]);
     }
     signed6 += fv;
+    r.facet_volume6[f] = fv;
     const double s = fv < 0.0 ? -1.0 : 1.0;
     vol6 += s * fv;
     if constexpr (kMoments)
@@ -858,6 +930,10 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
   Kernel k(C, stats);
   k.run(res);
   res.contradiction = !k.consistent();  // looked for only with statistics
+  double scale = 1.0;
+  for (int i = 0; i < 4; ++i)
+    for (int p = 0; p < 4; ++p) scale = std::max(scale, std::abs(C[i][p]));
+  res.coordinate_scale = scale;
   const bool ok = build_facets<!kMoments>(res);
   if (!ok) {
     res.num_corners = 0;
@@ -909,6 +985,8 @@ void trace_kernel(const double (&C)[4][4], KernelTrace& t, IntersectionStats* st
   Kernel k(C, stats);
   KernelResult res;
   const bool ran = k.run(res);
+  for (int i = 0; i < 4; ++i)
+    for (int p = 0; p < 4; ++p) res.coordinate_scale = std::max(res.coordinate_scale, std::abs(C[i][p]));
   k.export_signs(t);
   t.num_corners = res.num_corners;
   for (int c = 0; c < res.num_corners; ++c)
@@ -916,8 +994,9 @@ void trace_kernel(const double (&C)[4][4], KernelTrace& t, IntersectionStats* st
       if (x < 3) t.labels[static_cast<std::size_t>(c)][static_cast<std::size_t>(x)] = res.corners[c].labels[x];
       t.bary[static_cast<std::size_t>(c)][static_cast<std::size_t>(x)] = res.corners[c].bary[x];
     }
-  t.consistent = ran && build_facets<false>(res) && (res.num_facets == 0 || orient_facets(res));
+  t.consistent = ran && build_facets<false>(res);
   if (t.consistent) reference_moments<true>(res);
+  t.consistent = t.consistent && (res.num_facets == 0 || orient_facets(res, true));
   t.num_facets = res.num_facets;
   t.volume = res.ref_volume;
 }
@@ -928,15 +1007,13 @@ void trace_kernel(const double (&C)[4][4], KernelTrace& t, IntersectionStats* st
 // by eq. (3) (exact input vertices where a corner is one), labels and barycentric coordinates
 // relative to the caller's argument order.
 struct PolyhedronBuilder {
-  static bool fill(Polyhedron& P, const detail::Frame& fr, detail::KernelResult& res) {
+  static bool fill(Polyhedron& P, const detail::Frame& fr, detail::KernelResult& res, bool check) {
     using detail::RawCorner;
     if (res.num_facets > 0) {
-      if (!detail::orient_facets(res)) return false;
-      // Outward in the reference frame means a positive signed volume; a negatively oriented
-      // reference maps outward to inward, so the facets are then reversed once more.
-      double vol6, m[3];
-      const double signed6 = detail::fan_moments<false>(res, vol6, m);
-      if ((signed6 < 0.0) != (fr.det6 < 0.0))
+      if (!detail::orient_facets(res, check)) return false;
+      // Outward in the reference frame; a negatively oriented reference maps outward to
+      // inward, so the facets are then reversed once more.
+      if (fr.det6 < 0.0)
         for (int f = 0; f < res.num_facets; ++f)
           std::reverse(res.facet_index + res.facet_begin[f], res.facet_index + res.facet_begin[f + 1]);
     }
@@ -1012,7 +1089,7 @@ Polyhedron intersect(const Tet& U, const Tet& V, IntersectionStats* stats) {
   detail::Frame fr;
   detail::KernelResult res;
   if (!detail::solve<true>(U, V, fr, res, stats)) return P;
-  if (!PolyhedronBuilder::fill(P, fr, res)) {
+  if (!PolyhedronBuilder::fill(P, fr, res, stats != nullptr)) {
     if (stats) ++stats->inconsistencies;
     return Polyhedron{};
   }
