@@ -1007,6 +1007,12 @@ void trace_kernel(const double (&C)[4][4], KernelTrace& t, IntersectionStats* st
 // by eq. (3) (exact input vertices where a corner is one), labels and barycentric coordinates
 // relative to the caller's argument order.
 struct PolyhedronBuilder {
+  static void clear(Polyhedron& P) {
+    P.num_corners_ = P.num_facets_ = 0;
+    P.touched_v_ = 0;
+    P.moments_ = {};
+  }
+
   static bool fill(Polyhedron& P, const detail::Frame& fr, detail::KernelResult& res, bool check) {
     using detail::RawCorner;
     if (res.num_facets > 0) {
@@ -1058,6 +1064,13 @@ struct PolyhedronBuilder {
       }
       for (int p = 0; p < 4; ++p) out.bary[static_cast<std::size_t>(p)] = sum > 0.0 ? b[p] / sum : 0.25;
     }
+    // Which of V's barycentric coordinates are exactly zero, per corner.
+    unsigned zero[detail::KernelResult::kMaxCorners];
+    for (int c = 0; c < res.num_corners; ++c) {
+      const auto& b = P.corners_[static_cast<std::size_t>(c)].bary;
+      zero[c] = unsigned(b[0] == 0.0) | unsigned(b[1] == 0.0) << 1 | unsigned(b[2] == 0.0) << 2 |
+                unsigned(b[3] == 0.0) << 3;
+    }
     P.num_facets_ = res.num_facets;
     P.touched_v_ = 0;
     for (int f = 0; f <= res.num_facets; ++f) P.facet_begin_[static_cast<std::size_t>(f)] = res.facet_begin[f];
@@ -1071,12 +1084,9 @@ struct PolyhedronBuilder {
         continue;
       }
       // A facet of U lying in a plane of V: every corner has that coordinate exactly zero.
-      for (int p = 0; p < 4; ++p) {
-        bool all_zero = true;
-        for (int k = res.facet_begin[f]; k < res.facet_begin[f + 1]; ++k)
-          all_zero &= P.corners_[res.facet_index[k]].bary[static_cast<std::size_t>(p)] == 0.0;
-        if (all_zero) P.touched_v_ |= 1u << p;
-      }
+      unsigned all_zero = 0xFu;
+      for (int k = res.facet_begin[f]; k < res.facet_begin[f + 1]; ++k) all_zero &= zero[res.facet_index[k]];
+      P.touched_v_ |= all_zero;
     }
     P.moments_ = detail::original_moments(fr, res);
     return true;
@@ -1084,14 +1094,13 @@ struct PolyhedronBuilder {
 };
 
 Polyhedron intersect(const Tet& U, const Tet& V, IntersectionStats* stats) {
-  Polyhedron P;
+  Polyhedron P;  // one object on every path, so that it is constructed in place (no copy)
   if (stats) ++stats->calls;
   detail::Frame fr;
   detail::KernelResult res;
-  if (!detail::solve<true>(U, V, fr, res, stats)) return P;
-  if (!PolyhedronBuilder::fill(P, fr, res, stats != nullptr)) {
+  if (detail::solve<true>(U, V, fr, res, stats) && !PolyhedronBuilder::fill(P, fr, res, stats != nullptr)) {
     if (stats) ++stats->inconsistencies;
-    return Polyhedron{};
+    PolyhedronBuilder::clear(P);
   }
   return P;
 }
