@@ -859,26 +859,45 @@ double shape_quality(const Tet& t, double& det6) {
 // vertex of the reference gets that vertex's coordinates exactly (1 and three exact zeros):
 // shared vertices, shared faces and identical tetrahedra, the normal case on conforming meshes,
 // are then decided exactly rather than by rounding.
+//
+// A coordinate whose computed value is within the rounding error bound of the determinant
+// (Shewchuk's bound for orient3d, (7 + 56 eps) eps times the permanent, with this same
+// evaluation order) has no reliable sign; it is set to exactly 0, which places the point on
+// the face. The result is then the exact answer for an input perturbed by less than its own
+// rounding, in the spirit of Corollary 2, and two tetrahedra that touch across a face up to an
+// ulp give exactly zero instead of a slab of rounding-sized volume.
 struct BarycentricMap {
   Vec3 vertex[4];
   Vec3 anchor[4];
   Vec3 normal[4];
-  double scale[4];  // +-1 / det6 with the sign that makes coordinate k of vertex k positive
+  Vec3 abs_normal[4];  // the terms of the normal in absolute value, for the permanent
+  double scale[4];     // +-1 / det6 with the sign that makes coordinate k of vertex k positive
+
+  static constexpr double kErrBound = (7.0 + 56.0 * 0x1p-53) * 0x1p-53;
 
   BarycentricMap(const Tet& r, double det6) {
     const double inv = 1.0 / det6;
     for (int k = 0; k < 4; ++k) {
       vertex[k] = r[k];
-      const Vec3 f0 = r[kFaceVerts[k][0]], f1 = r[kFaceVerts[k][1]], f2 = r[kFaceVerts[k][2]];
+      const Vec3 f0 = r[kFaceVerts[k][0]];
+      const Vec3 d1 = r[kFaceVerts[k][1]] - f0, d2 = r[kFaceVerts[k][2]] - f0;
       anchor[k] = f0;
-      normal[k] = cross(f1 - f0, f2 - f0);
+      normal[k] = cross(d1, d2);
+      abs_normal[k] = {std::abs(d1.y * d2.z) + std::abs(d1.z * d2.y), std::abs(d1.z * d2.x) + std::abs(d1.x * d2.z),
+                       std::abs(d1.x * d2.y) + std::abs(d1.y * d2.x)};
       // (r_k - f0) . n_k = orient3d(f0, f1, f2, r_k) = (-1)^(k+1) det6.
       scale[k] = (k % 2 == 0) ? -inv : inv;
     }
   }
 
   void operator()(Vec3 u, double (&out)[4]) const {
-    for (int k = 0; k < 4; ++k) out[k] = dot(u - anchor[k], normal[k]) * scale[k];
+    for (int k = 0; k < 4; ++k) {
+      const Vec3 w = u - anchor[k];
+      const double det = dot(w, normal[k]);
+      const double permanent = std::abs(w.x) * abs_normal[k].x + std::abs(w.y) * abs_normal[k].y +
+                               std::abs(w.z) * abs_normal[k].z;
+      out[k] = std::abs(det) > kErrBound * permanent ? det * scale[k] : 0.0;
+    }
     for (int k = 0; k < 4; ++k)
       if (u == vertex[k]) {
         for (int q = 0; q < 4; ++q) out[q] = q == k ? 1.0 : 0.0;
