@@ -17,8 +17,9 @@ packages=(
   libmpfr-dev       # needed by CGAL
   libcli11-dev      # command-line parsing (tetia executable)
   libcgal-dev       # CGAL: the comparison in bench/bench_cgal
-  libboost-dev      # CGAL's headers need Boost
-  libeigen3-dev
+  libboost-dev      # Boost.Geometry R-tree (supermesh search); CGAL's headers need it too
+  libeigen3-dev     # sparse matrices and conjugate gradients (P1 remap)
+  libgmsh-dev       # reading and generating meshes (Gmsh C++ API)
   python3           # scripts and plots
   python3-matplotlib
   python3-numpy

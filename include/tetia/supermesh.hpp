@@ -1,0 +1,46 @@
+// tetia/supermesh.hpp -- the intersection of two tetrahedral meshes.
+//
+// Contract: supermesh(source, target) returns every pair (source cell, target cell) whose
+// intersection has positive volume, with its volume and first moments, sorted by (target,
+// source); on request also the polyhedra. Candidates are found by an advancing front over face
+// adjacency, seeded per connected region by an R-tree query (linear complexity, robust to
+// non-convex domains, holes, several components, identical and face-sharing cells), or by a
+// plain R-tree search. Results are identical for any number of threads.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "tetia/mesh.hpp"
+#include "tetia/polyhedron.hpp"
+
+namespace tetia {
+
+enum class CandidateSearch { front, rtree };
+
+struct SupermeshOptions {
+  CandidateSearch search = CandidateSearch::front;
+  int threads = 0;              ///< 0: OpenMP's default
+  bool keep_polyhedra = false;  ///< fill Supermesh::polyhedra
+};
+
+struct SupermeshPiece {
+  std::int32_t source = -1, target = -1;
+  double volume = 0.0;
+  Vec3 first{};  ///< first moments (integral of the position)
+};
+
+struct Supermesh {
+  const TetMesh* source = nullptr;
+  const TetMesh* target = nullptr;
+  std::vector<SupermeshPiece> pieces;  ///< sorted by (target, source)
+  std::vector<Polyhedron> polyhedra;   ///< pieces[k]'s polyhedron (U = source cell, V = target cell), if kept
+  std::size_t candidates = 0;          ///< pairs handed to the kernel
+  double seconds = 0.0;
+  double intersection_volume() const;
+};
+
+Supermesh supermesh(const TetMesh& source, const TetMesh& target, const SupermeshOptions& options = {});
+
+}  // namespace tetia
