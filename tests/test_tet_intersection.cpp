@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <cstdlib>
+#include <new>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -11,6 +14,19 @@
 
 #include "tetia/kernel_trace.hpp"
 #include "tetia/tet_intersection.hpp"
+
+// Counts heap allocations made through operator new in this test program, to check that the
+// kernel allocates nothing.
+namespace {
+std::atomic<long> g_allocations{0};
+}
+void* operator new(std::size_t n) {
+  ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace {
 
@@ -304,6 +320,31 @@ TEST(Kernel, VolumeMomentsAndTetrahedralizationAgree) {
     EXPECT_NEAR(sum, v, 1e-14);
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(first[k], m.first[k], 1e-14);
   }
+}
+
+TEST(Kernel, NoHeapAllocation) {
+  std::mt19937_64 rng(17);
+  std::vector<std::pair<Tet, Tet>> pairs;
+  for (int n = 0; n < 2000; ++n) pairs.emplace_back(random_tet(rng), random_tet(rng));
+  // Degenerate ones too: identical, shared face, the sweep.
+  pairs.emplace_back(kRef, kRef);
+  Tet mirror = kRef;
+  for (auto& v : mirror) v.x = -v.x;
+  pairs.emplace_back(kRef, mirror);
+  const long before = g_allocations.load();
+  double sum = 0.0;
+  IntersectionStats st;
+  for (const auto& [U, V] : pairs) {
+    sum += intersection_volume(U, V);
+    sum += intersection_moments(U, V).volume;
+    sum += intersect(U, V, &st).volume();
+  }
+  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_GT(sum, 0.0);
+  // The counter does see allocations (tetrahedra() returns a vector).
+  const auto tets = intersect(kRef, kRef).tetrahedra();
+  EXPECT_GT(g_allocations.load(), before);
+  EXPECT_FALSE(tets.empty());
 }
 
 TEST(Kernel, ParsimonyStatisticsAreCountedAndConsistent) {
