@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <optional>
 #include <cmath>
 #include <cstdint>
 
@@ -121,6 +122,7 @@ enum : u8 { kVertexOfX = 0, kEdgeOfX = 1, kFaceOfX = 2, kVertexOfY = 3 };
 // kernel's own numbering (0-3 faces of X, 4-7 planes P_0..P_3), ascending.
 struct RawCorner {
   double bary[4];
+  double weights[4];  // barycentric weights on X's vertices (not set for vertices of Y)
   u8 labels[3];
   u8 kind;
   u8 index;  // vertex of X, edge * 4 + plane, face * 8 + line, or vertex of Y
@@ -424,8 +426,8 @@ class Kernel {
 
   // --- corners ------------------------------------------------------------------------------
 
-  void add_corner(KernelResult& out, const double (&bary)[4], int l0, int l1, int l2, u8 kind,
-                  int index) {
+  void add_corner(KernelResult& out, const double (&bary)[4], const double (&weights)[4], int l0, int l1,
+                  int l2, u8 kind, int index) {
     if (out.num_corners >= KernelResult::kMaxCorners) {  // impossible for a simple polytope
       note_inconsistency();
       return;
@@ -433,6 +435,7 @@ class Kernel {
     const int c = out.num_corners++;
     RawCorner& rc = out.corners[c];
     for (int p = 0; p < 4; ++p) rc.bary[p] = bary[p];
+    for (int p = 0; p < 4; ++p) rc.weights[p] = weights[p];
     // Callers pass the labels ascending (faces of X first, then planes of Y, each ascending).
     rc.labels[0] = static_cast<u8>(l0);
     rc.labels[1] = static_cast<u8>(l1);
@@ -473,16 +476,21 @@ class Kernel {
   // p < 0: eq. (2) written as s + t (o - s), t = p_s / (p_s - p_o). The denominator is at least
   // |p_o| > 0 and t lies in [0, 1), so the point stays on the edge whatever the rounding; when
   // p_s is exactly 0 (a vertex on the plane, as on shared faces) it is the vertex exactly.
-  void edge_point(int i, int j, int p, double (&b)[4]) const {
+  // Also returns the point's barycentric weights on X's vertices in w (exact zeros off the
+  // edge): they give the corner's coordinates in U when U is the caller's V (see fill()).
+  void edge_point(int i, int j, int p, double (&b)[4], double (&w)[4]) const {
     const int s = bit(sm_[i], p) ? i : j, o = s == i ? j : i;
     const double t = C_[s][p] / (C_[s][p] - C_[o][p]);
     for (int q = 0; q < 4; ++q) b[q] = C_[s][q] + t * (C_[o][q] - C_[s][q]);
     b[p] = 0.0;
+    w[0] = w[1] = w[2] = w[3] = 0.0;
+    w[s] = 1.0 - t;
+    w[o] = t;
   }
 
   // Coordinates of the corner where edge e meets P_p.
-  void edge_corner_coords(int e, int p, double (&b)[4]) {
-    edge_point(tet_edges[e][0], tet_edges[e][1], p, b);
+  void edge_corner_coords(int e, int p, double (&b)[4], double (&w)[4]) {
+    edge_point(tet_edges[e][0], tet_edges[e][1], p, b, w);
     if (stats_) stats_->corner_coordinates += 3;
     guardrail(b, 1u << p);
   }
@@ -495,7 +503,8 @@ class Kernel {
   // P_b) the one in P_a is used unless it is nearly parallel to the line; then the steeper. The point's value is computed once
   // per corner, so the choice cannot make two parts of the algorithm disagree; the decisions
   // were all taken on signs.
-  void face_corner_coords(int f, int a, int b, double (&out)[4]) {
+  void face_corner_coords(int f, int a, int b, double (&out)[4], double (&w)[4]) {
+    for (int q = 0; q < 4; ++q) out[q] = w[q] = 0.0;  // both set by the first view below
     double best = -1.0;
     for (const int view : {a, b}) {
       // A segment crossing the line at a clear angle is good enough; the second view is only
@@ -503,19 +512,22 @@ class Kernel {
       if (best > 0x1p-10) break;
       const int cut = view == a ? b : a;  // the coordinate that vanishes along the segment
       const int i = seg_lone_[f][view], j = seg_j_[f][view], k = seg_k_[f][view];
-      double e1[4], e2[4];
-      edge_point(i, j, view, e1);
-      edge_point(i, k, view, e2);
+      double e1[4], e2[4], w1[4], w2[4];
+      edge_point(i, j, view, e1, w1);
+      edge_point(i, k, view, e2, w2);
       // Interpolate from the end with cut >= 0 to the one with cut < 0, as decided by signs.
       const bool first_nonneg = bit(seg_m1_[f][view], cut);
       const double* s = first_nonneg ? e1 : e2;
       const double* o = first_nonneg ? e2 : e1;
+      const double* ws = first_nonneg ? w1 : w2;
+      const double* wo = first_nonneg ? w2 : w1;
       const double cs = std::max(s[cut], 0.0), co = std::min(o[cut], 0.0);
       const double den = cs - co;
       if (!(den > best)) continue;
       best = den;
       const double t = den > 0.0 ? cs / den : 0.5;
       for (int q = 0; q < 4; ++q) out[q] = s[q] + t * (o[q] - s[q]);
+      for (int q = 0; q < 4; ++q) w[q] = ws[q] + t * (wo[q] - ws[q]);
     }
     out[a] = out[b] = 0.0;
     if (stats_) stats_->corner_coordinates += 2;
@@ -555,7 +567,9 @@ bool Kernel::run(KernelResult& out) {
     if (sm_[i] == 0xF) {
       double b[4] = {C_[i][0], C_[i][1], C_[i][2], C_[i][3]};
       guardrail(b, 0);
-      add_corner(out, b, kFaceVerts[i][0], kFaceVerts[i][1], kFaceVerts[i][2], kVertexOfX, i);
+      double w[4] = {0.0, 0.0, 0.0, 0.0};
+      w[i] = 1.0;
+      add_corner(out, b, w, kFaceVerts[i][0], kFaceVerts[i][1], kFaceVerts[i][2], kVertexOfX, i);
     }
   if ((sm_[0] & sm_[1] & sm_[2] & sm_[3]) == 0xF) return true;  // X inside Y
 
@@ -564,11 +578,11 @@ bool Kernel::run(KernelResult& out) {
   for (std::uint32_t rest = edge_corners_; rest; rest &= rest - 1) {
     const int bitpos = std::countr_zero(rest);
     const int e = bitpos >> 2, p = bitpos & 3;
-    double b[4];
-    edge_corner_coords(e, p, b);
+    double b[4], w[4];
+    edge_corner_coords(e, p, b, w);
     // Edge ij lies on the two faces of X opposite the vertices it does not contain, which are
     // the vertices of the opposite edge 5 - e.
-    add_corner(out, b, tet_edges[5 - e][0], tet_edges[5 - e][1], 4 + p, kEdgeOfX, e * 4 + p);
+    add_corner(out, b, w, tet_edges[5 - e][0], tet_edges[5 - e][1], 4 + p, kEdgeOfX, e * 4 + p);
   }
 
   // Line 18: faces of X against lines of Y.
@@ -597,9 +611,9 @@ bool Kernel::run(KernelResult& out) {
     for (unsigned rest = on_y & fexist_[f]; rest; rest &= rest - 1) {
       const int L = std::countr_zero(rest);
       const int a = kLines[L][0], b = kLines[L][1];
-      double bary[4];
-      face_corner_coords(f, a, b, bary);
-      add_corner(out, bary, f, 4 + a, 4 + b, kFaceOfX, f * 8 + L);
+      double bary[4], w[4];
+      face_corner_coords(f, a, b, bary, w);
+      add_corner(out, bary, w, f, 4 + a, 4 + b, kFaceOfX, f * 8 + L);
     }
   }
 
@@ -624,7 +638,7 @@ bool Kernel::run(KernelResult& out) {
       double b[4] = {0.0, 0.0, 0.0, 0.0};
       b[t] = 1.0;
       const int l0 = t == 0 ? 5 : 4, l1 = t <= 1 ? 6 : 5, l2 = t == 3 ? 6 : 7;
-      add_corner(out, b, l0, l1, l2, kVertexOfY, t);
+      add_corner(out, b, b, l0, l1, l2, kVertexOfY, t);  // weights unknown here (see fill())
     }
   }
   return consistent_;
@@ -1046,8 +1060,7 @@ struct PolyhedronBuilder {
     const Vec3 a1 = r[1] - r[0], a2 = r[2] - r[0], a3 = r[3] - r[0];
     P.num_corners_ = res.num_corners;
     const Tet& V = fr.swapped ? *fr.sub : *fr.ref;
-    const double detV = fr.swapped ? orient3d(V[0], V[1], V[2], V[3]) : 1.0;
-    const detail::BarycentricMap bary_v(V, detV);
+    std::optional<detail::BarycentricMap> bary_v;  // only for vertices of U inside V
     for (int c = 0; c < res.num_corners; ++c) {
       const RawCorner& rc = res.corners[c];
       Corner& out = P.corners_[static_cast<std::size_t>(c)];
@@ -1069,10 +1082,11 @@ struct PolyhedronBuilder {
       // of V's planes the corner lies on set to exactly zero, then clamped into the simplex
       // (the corner is on V by construction).
       double b[4];
-      if (rc.kind == detail::kVertexOfX) {
-        for (int p = 0; p < 4; ++p) b[p] = p == rc.index ? 1.0 : 0.0;
+      if (rc.kind != detail::kVertexOfY) {
+        for (int p = 0; p < 4; ++p) b[p] = rc.weights[p];  // X is V: its weights are V's coordinates
       } else {
-        bary_v(out.point, b);
+        if (!bary_v) bary_v.emplace(V, orient3d(V[0], V[1], V[2], V[3]));
+        (*bary_v)(out.point, b);
       }
       double sum = 0.0;
       for (int p = 0; p < 4; ++p) {
