@@ -9,6 +9,7 @@
 #include <cstring>
 #include <string>
 
+#include "mesh_commands.hpp"
 #include "pairs.hpp"
 
 #ifndef TETIA_VERSION
@@ -82,6 +83,40 @@ int main(int argc, char** argv) {
   PairsCommand pairs;
   add_pairs_command(app, pairs);
 
+  tetia::app::SupermeshCommand sm;
+  CLI::App* sm_cmd = app.add_subcommand("supermesh", "Intersect two tetrahedral meshes (.msh files)");
+  sm_cmd->add_option("source", sm.source, "Source mesh (.msh 2.2 or 4.1, ASCII or binary)")->required();
+  sm_cmd->add_option("target", sm.target, "Target mesh")->required();
+  sm_cmd->add_option("-o,--output", sm.output, "Write the supermesh (its tetrahedralization) as VTU");
+  sm_cmd->add_option("--threads", sm.threads, "OpenMP threads (0: default)")->capture_default_str();
+  sm_cmd->add_option("--search", sm.search, "Candidate search: front (advancing front) or rtree")
+      ->check(CLI::IsMember({"front", "rtree"}))
+      ->capture_default_str();
+  sm_cmd->footer("Prints a JSON summary: source_cells, target_cells, candidates, pairs, source_volume,\n"
+                 "target_volume, intersection_volume, seconds.");
+
+  tetia::app::RemapCommand rm;
+  CLI::App* rm_cmd = app.add_subcommand("remap", "Transfer a field conservatively from one mesh to another");
+  rm_cmd->add_option("source", rm.source, "Source mesh (.msh)")->required();
+  rm_cmd->add_option("target", rm.target, "Target mesh (.msh)")->required();
+  rm_cmd->add_option("--field", rm.field, "Name of a field stored in the source .msh (cell data for --order 0, "
+                                          "node data for --order 1)");
+  rm_cmd->add_option("--expr", rm.expr, "An analytic field in x, y, z, e.g. \"sin(x)*y\" (muparser syntax)");
+  rm_cmd->add_option("--order", rm.order, "0: cell averages (P0); 1: continuous nodal (P1)")
+      ->check(CLI::IsMember({0, 1}))
+      ->capture_default_str();
+  rm_cmd->add_option("-o,--output", rm.output, "Write the target mesh with the remapped field as VTU");
+  rm_cmd->add_option("--matrix", rm.matrix, "Write the coupling (mixed mass) matrix in Matrix Market format");
+  rm_cmd->add_option("--threads", rm.threads, "OpenMP threads (0: default)")->capture_default_str();
+  rm_cmd->footer("Prints a JSON summary with the integrals on both meshes, the conservation error and,\n"
+                 "with --expr, the L2 error of the remapped field.");
+
+  tetia::app::DemoCommand demo;
+  CLI::App* demo_cmd = app.add_subcommand("demo", "The main job on built-in meshes (Gmsh box and ball)");
+  demo_cmd->add_option("-o,--output-dir", demo.output_dir, "Where to write the VTU files")->capture_default_str();
+  demo_cmd->add_option("--size", demo.size, "Element size of the finer mesh")->capture_default_str();
+  demo_cmd->add_option("--threads", demo.threads, "OpenMP threads (0: default)")->capture_default_str();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -90,6 +125,9 @@ int main(int argc, char** argv) {
   }
 
   if (app.got_subcommand("pairs")) return run_pairs_command(pairs);
+  if (app.got_subcommand("supermesh")) return tetia::app::run_supermesh(sm);
+  if (app.got_subcommand("remap")) return tetia::app::run_remap(rm);
+  if (app.got_subcommand("demo")) return tetia::app::run_demo(demo);
 
   std::fputs(app.help().c_str(), stderr);
   std::fputs("tetia: a subcommand is required (see 'tetia pairs --help')\n", stderr);

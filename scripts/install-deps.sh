@@ -20,6 +20,7 @@ packages=(
   libboost-dev      # Boost.Geometry R-tree (supermesh search); CGAL's headers need it too
   libeigen3-dev     # sparse matrices and conjugate gradients (P1 remap)
   libgmsh-dev       # reading and generating meshes (Gmsh C++ API)
+  libmuparser-dev   # analytic fields in `tetia remap --expr`
   python3           # scripts and plots
   python3-matplotlib
   python3-numpy

@@ -1,0 +1,499 @@
+// The intersection of two tetrahedral meshes: which (source cell, target cell) pairs overlap
+// with positive volume, found by an advancing front over face adjacency or by an R-tree.
+//
+// The front. Source cells are visited in breadth-first order over the source adjacency, within
+// a chunk of consecutive cell indices. For each source cell s:
+//
+//   1. Seeds: the targets of s's BFS parent (processed, same chunk), tried one at a time; each
+//      one found positive starts a flood fill: a target t positive with s queues its face
+//      neighbours across the faces of t that s crosses (a neighbour across a face whose plane
+//      has all of s strictly on t's side, certified with orient3d's error bound, meets s with
+//      zero volume); a target tested zero queues nothing. Seeding stops once s is covered (the
+//      volumes found add up to |s| to 1e-12) or a risky target is found.
+//   2. Not covered yet: the targets of every processed neighbour of s and their neighbours
+//      (this crosses zero-volume contacts: for identical or face-sharing meshes the parent's
+//      targets only touch s, and it is their neighbours that intersect it), flood again.
+//   3. s is "at risk" when it has no processed neighbour (start of a region), when a target
+//      found positive is "risky" (it has a boundary face, neighbour -1, which also covers
+//      non-conforming or duplicated interior faces, or a flat neighbour, which breaks face
+//      connectivity), or when the pieces found do not cover s. An at-risk cell is tested
+//      against every target whose bounding box overlaps its own (R-tree query), which finds
+//      every positive pair by itself.
+//
+// Why this finds every pair (s, t) with vol(s n t) > 0. Let O be the interior of s intersected
+// with the interior of the target domain, minus the risky faces. Each piece s n t of positive
+// volume has its interior in O. Inside one connected component K of O two pieces are linked by
+// a path avoiding target edges (removing segments does not disconnect an open set in R^3); the
+// path crosses target faces at interior points of s, so s crosses those faces' planes, and each
+// such face is shared by two targets that both meet s with positive volume: the flood reaches
+// every piece of K from any one of them. If s is not at risk, the flood found a component K0.
+// If K0 were not dense in s, its boundary inside s would separate the open convex set int(s),
+// so it would have positive area; it lies on risky faces, so a target of K0 would own a risky
+// face and s would be at risk. Hence K0 is dense in s, it is the only component (another one
+// would be an open set disjoint from a dense open set), and the flood found every positive
+// target. An at-risk cell is complete by the R-tree. The seeds only decide how often the R-tree
+// is needed (near the target boundary: O(n^(2/3)) cells for meshes of one domain), never what
+// is found; zero-volume contacts never stop the front (a flood that finds nothing falls back to
+// the R-tree). The argument is exact; the kernel decides positivity in floating point, and
+// below the resolution of doubles it can report zero for a sliver the argument walks through.
+// The coverage test catches that: a flood cut short leaves s visibly uncovered (the test found
+// such cases with 1e-12 offsets). Pieces below the resolution (1e-14 of the smaller cell) are
+// dropped in both searches, so front and R-tree return the same pieces.
+//
+// Threads: the chunks (their number depends on the mesh size only) each have their own front
+// and are handed to threads dynamically. Every pair is computed by one kernel call with the
+// same arguments whatever the order, and the pieces are sorted by (target, source) at the end,
+// so the result, including `candidates`, is the same bit for bit for any number of threads.
+// No allocation per pair: each thread keeps its buffers and its pieces until the final merge.
+#include "tetia/supermesh.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <iterator>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#ifdef __linux__
+#include <sys/mman.h>
+#include <unistd.h>
+#endif
+
+#include <boost/geometry.hpp>
+#include <boost/geometry/index/rtree.hpp>
+
+#include "tetia/tet_intersection.hpp"
+
+namespace tetia {
+
+double Supermesh::intersection_volume() const {
+  // Neumaier's compensated sum: the total is compared with mesh volumes to 1e-13.
+  double sum = 0.0, comp = 0.0;
+  for (const auto& p : pieces) {
+    const double t = sum + p.volume;
+    comp += std::abs(sum) >= std::abs(p.volume) ? (sum - t) + p.volume : (p.volume - t) + sum;
+    sum = t;
+  }
+  return sum + comp;
+}
+
+namespace {
+
+namespace bg = boost::geometry;
+namespace bgi = boost::geometry::index;
+using BPoint = bg::model::point<double, 3, bg::cs::cartesian>;
+using BBox = bg::model::box<BPoint>;
+using RValue = std::pair<BBox, std::int32_t>;
+using RTree = bgi::rtree<RValue, bgi::quadratic<16>>;
+
+struct Box {
+  std::array<double, 3> lo, hi;
+};
+
+Box box_of(const Tet& t) {
+  Box b;
+  for (int k = 0; k < 3; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    b.lo[i] = std::min(std::min(t[0][k], t[1][k]), std::min(t[2][k], t[3][k]));
+    b.hi[i] = std::max(std::max(t[0][k], t[1][k]), std::max(t[2][k], t[3][k]));
+  }
+  return b;
+}
+
+/// Interiors of the boxes overlap (necessary for an intersection of positive volume).
+inline bool overlap_open(const Box& a, const Box& b) {
+  return a.lo[0] < b.hi[0] && b.lo[0] < a.hi[0] && a.lo[1] < b.hi[1] && b.lo[1] < a.hi[1] &&
+         a.lo[2] < b.hi[2] && b.lo[2] < a.hi[2];
+}
+
+// Bit k is set unless every vertex of S lies strictly on T's side of the plane of T's face k,
+// which is certified with Shewchuk's static error bound for orient3d; if so, the neighbour of
+// T across face k lies on the other side of that plane and meets S with zero volume.
+unsigned faces_crossed(const Tet& T, const Tet& S) {
+  constexpr double kErrBound = 1e-15;  // > (7 + 56 eps) eps, Shewchuk's o3derrboundA
+  unsigned mask = 0;
+  for (int k = 0; k < 4; ++k) {
+    const Vec3& a = T[static_cast<std::size_t>((k + 1) & 3)];
+    const Vec3 B = T[static_cast<std::size_t>((k + 2) & 3)] - a, C = T[static_cast<std::size_t>((k + 3) & 3)] - a;
+    const Vec3 n = cross(B, C);
+    const Vec3 m{std::abs(B.y * C.z) + std::abs(B.z * C.y), std::abs(B.z * C.x) + std::abs(B.x * C.z),
+                 std::abs(B.x * C.y) + std::abs(B.y * C.x)};
+    const auto side = [&](const Vec3& p) {
+      const Vec3 D = p - a;
+      const double v = dot(n, D);
+      const double e = kErrBound * (std::abs(D.x) * m.x + std::abs(D.y) * m.y + std::abs(D.z) * m.z);
+      return v > e ? 1 : (v < -e ? -1 : 0);
+    };
+    const int own = side(T[static_cast<std::size_t>(k)]);
+    bool separated = own != 0;
+    for (std::size_t i = 0; i < 4 && separated; ++i) separated = side(S[i]) == own;
+    if (!separated) mask |= 1u << k;
+  }
+  return mask;
+}
+
+// Large buffers ask for transparent huge pages (Linux, where THP is in "madvise" mode): filling
+// hundreds of MB page by page costs more in first-touch page faults than in copying on some
+// virtual machines (about 15 us per 4 KiB page measured on the development VM).
+void advise_huge_pages(const void* p, std::size_t bytes) {
+#ifdef __linux__
+  if (bytes < (std::size_t{4} << 20)) return;
+  const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
+  const std::uintptr_t b = (reinterpret_cast<std::uintptr_t>(p) + page - 1) / page * page;
+  const std::uintptr_t e = (reinterpret_cast<std::uintptr_t>(p) + bytes) / page * page;
+  if (e > b) madvise(reinterpret_cast<void*>(b), e - b, MADV_HUGEPAGE);
+#else
+  (void)p;
+  (void)bytes;
+#endif
+}
+
+template <class T>
+void reserve_huge(std::vector<T>& v, std::size_t n) {
+  if (n <= v.capacity()) return;
+  std::vector<T> w;
+  w.reserve(n);
+  advise_huge_pages(w.data(), n * sizeof(T));
+  w.insert(w.end(), v.begin(), v.end());
+  v.swap(w);
+}
+
+template <class T>
+void reserve_for_one_more(std::vector<T>& v) {
+  if (v.size() == v.capacity()) reserve_huge(v, std::max<std::size_t>(1024, 2 * v.capacity()));
+}
+
+BBox to_bbox(const Box& b) {
+  return BBox(BPoint(b.lo[0], b.lo[1], b.lo[2]), BPoint(b.hi[0], b.hi[1], b.hi[2]));
+}
+
+// A source cell whose pieces found by the front add up to less than (1 - this) times its volume
+// goes to the R-tree (see the comment at the top: the coverage test).
+constexpr double kCoverageTolerance = 1e-12;
+
+// Pieces of volume at most this times the smaller cell's volume are dropped: below the
+// resolution of double arithmetic the kernel cannot tell a sliver from a touching contact
+// (it may report 1e-40 for two cells that only share a face, or 0 for a real 1e-40 sliver), so
+// whether such "dust" is found would depend on the search; above it every piece is found.
+constexpr double kResolution = 1e-14;
+
+struct alignas(64) Chunk {  // aligned: threads fill neighbouring chunks
+  std::int32_t begin = 0, end = 0;  // source cells [begin, end)
+  int worker = 0;                   // the thread that ran it, and its pieces there:
+  std::size_t first = 0, last = 0;  // [first, last) of that worker's storage
+  std::size_t candidates = 0;
+};
+
+struct Shared {
+  const TetMesh& source;
+  const TetMesh& target;
+  const RTree& tree;
+  const std::vector<Box>& target_box;
+  const std::vector<std::uint8_t>& risky;  // target has a boundary face or a flat neighbour
+  bool keep;
+  // Per source cell, written only by the thread that owns its chunk.
+  std::vector<std::uint8_t>& state;  // 0 unvisited, 1 queued, 2 done
+  std::vector<std::int32_t>& parent;
+  std::vector<std::size_t>& piece_begin;  // into its worker's pieces
+  std::vector<std::size_t>& piece_count;
+};
+
+// Per-thread work space, reused across chunks and cells. The pieces (and polyhedra) of all the
+// chunks a thread runs stay in its own storage until the final merge.
+class Worker {
+ public:
+  explicit Worker(const Shared& sh) : sh_(sh), mark_(sh.target.num_cells(), 0) {}
+
+  const std::vector<SupermeshPiece>& pieces() const { return pieces_; }
+  const std::vector<Polyhedron>& polyhedra() const { return polyhedra_; }
+
+  void run_chunk(Chunk& ch, int id, CandidateSearch search) {
+    ch.worker = id;
+    ch.first = pieces_.size();
+    candidates_ = 0;
+    if (search == CandidateSearch::rtree) {
+      for (std::int32_t s = ch.begin; s < ch.end; ++s) {
+        begin_cell(s);
+        rtree_pass(s);
+        end_cell(s);
+      }
+    } else {
+      run_front(ch);
+    }
+    ch.last = pieces_.size();
+    ch.candidates = candidates_;
+  }
+
+ private:
+  void run_front(const Chunk& ch) {
+    queue_.clear();
+    for (std::int32_t start = ch.begin; start < ch.end; ++start) {
+      if (sh_.state[static_cast<std::size_t>(start)] != 0) continue;
+      sh_.state[static_cast<std::size_t>(start)] = 1;
+      sh_.parent[static_cast<std::size_t>(start)] = -1;
+      queue_.push_back(start);
+      for (std::size_t head = 0; head < queue_.size(); ++head) {
+        const std::int32_t s = queue_[head];
+        process_front(s, ch);
+        sh_.state[static_cast<std::size_t>(s)] = 2;
+        for (const std::int32_t n : sh_.source.neighbors[static_cast<std::size_t>(s)]) {
+          if (n < ch.begin || n >= ch.end || sh_.state[static_cast<std::size_t>(n)] != 0) continue;
+          sh_.state[static_cast<std::size_t>(n)] = 1;
+          sh_.parent[static_cast<std::size_t>(n)] = s;
+          queue_.push_back(n);
+        }
+      }
+      queue_.clear();
+    }
+  }
+
+  // mark_[t] == stamp_: queued for this source cell; stamp_ + 1: tested.
+  void next_stamp() {
+    if (stamp_ >= 0xFFFFFFF0u) {
+      std::fill(mark_.begin(), mark_.end(), 0u);
+      stamp_ = 0;
+    }
+    stamp_ += 2;
+  }
+  bool seen(std::int32_t t) const { return mark_[static_cast<std::size_t>(t)] >= stamp_; }
+  void enqueue(std::int32_t t) {
+    if (t < 0 || seen(t)) return;
+    mark_[static_cast<std::size_t>(t)] = stamp_;
+    cand_.push_back(t);
+  }
+
+  // The kernel on (source cell, target cell), appending the piece if its volume is positive.
+  bool test(std::int32_t s, std::int32_t t) {
+    mark_[static_cast<std::size_t>(t)] = stamp_ + 1;
+    if (!overlap_open(sbox_, sh_.target_box[static_cast<std::size_t>(t)])) return false;
+    ++candidates_;
+    T_ = sh_.target.cell(static_cast<std::size_t>(t));
+    const double floor = kResolution * std::min(svol_, sh_.target.volumes[static_cast<std::size_t>(t)]);
+    Moments m;
+    if (sh_.keep) {
+      poly_ = intersect(S_, T_);
+      if (!(poly_.volume() > floor)) return false;
+      m = poly_.moments();
+      reserve_for_one_more(polyhedra_);
+      polyhedra_.push_back(poly_);
+    } else {
+      m = intersection_moments(S_, T_);
+      if (!(m.volume > floor)) return false;
+    }
+    reserve_for_one_more(pieces_);
+    pieces_.push_back(SupermeshPiece{s, t, m.volume, m.first});
+    covered_ += m.volume;
+    if (sh_.risky[static_cast<std::size_t>(t)]) risky_hit_ = true;
+    return true;
+  }
+
+  // Tests the queued candidates from cand_[head_] on; a positive one queues its neighbours
+  // across the faces s crosses (the others lead to zero-volume neighbours). Stops early once a
+  // risky target is found (the cell then goes to the R-tree anyway).
+  void flood(std::int32_t s) {
+    while (head_ < cand_.size() && !risky_hit_) {
+      const std::int32_t t = cand_[head_++];
+      if (!test(s, t)) continue;
+      const unsigned crossed = faces_crossed(T_, S_);
+      const auto& nb = sh_.target.neighbors[static_cast<std::size_t>(t)];
+      for (std::size_t k = 0; k < 4; ++k)
+        if (crossed >> k & 1u) enqueue(nb[k]);
+    }
+  }
+
+  // Every target whose bounding box overlaps s's, not yet tested.
+  void rtree_pass(std::int32_t s) {
+    hits_.clear();
+    sh_.tree.query(bgi::intersects(to_bbox(sbox_)), std::back_inserter(hits_));
+    for (const RValue& h : hits_)
+      if (mark_[static_cast<std::size_t>(h.second)] != stamp_ + 1) test(s, h.second);
+  }
+
+  void begin_cell(std::int32_t s) {
+    next_stamp();
+    cand_.clear();
+    head_ = 0;
+    risky_hit_ = false;
+    covered_ = 0.0;
+    S_ = sh_.source.cell(static_cast<std::size_t>(s));
+    svol_ = sh_.source.volumes[static_cast<std::size_t>(s)];
+    sbox_ = box_of(S_);
+    sh_.piece_begin[static_cast<std::size_t>(s)] = pieces_.size();
+  }
+  void end_cell(std::int32_t s) {
+    sh_.piece_count[static_cast<std::size_t>(s)] = pieces_.size() - sh_.piece_begin[static_cast<std::size_t>(s)];
+  }
+
+  // Queues the targets of processed source cell q and their neighbours.
+  void enqueue_targets_of(std::int32_t q) {
+    const std::size_t b = sh_.piece_begin[static_cast<std::size_t>(q)];
+    const std::size_t e = b + sh_.piece_count[static_cast<std::size_t>(q)];
+    for (std::size_t i = b; i < e; ++i) {
+      const std::int32_t t = pieces_[i].target;
+      enqueue(t);
+      for (const std::int32_t n : sh_.target.neighbors[static_cast<std::size_t>(t)]) enqueue(n);
+    }
+  }
+
+  void process_front(std::int32_t s, const Chunk& ch) {
+    begin_cell(s);
+    const std::size_t first = pieces_.size();
+    const std::int32_t p = sh_.parent[static_cast<std::size_t>(s)];
+    const double full = (1.0 - kCoverageTolerance) * sh_.source.volumes[static_cast<std::size_t>(s)];
+    const auto covered = [&] { return pieces_.size() > first && covered_ >= full; };
+    bool complete = false;
+    if (p >= 0) {
+      // Step 1: the parent's targets, one at a time until the flood from the positive ones
+      // covers s (many of them do not meet s: not testing them saves kernel calls).
+      const std::size_t b = sh_.piece_begin[static_cast<std::size_t>(p)];
+      const std::size_t e = b + sh_.piece_count[static_cast<std::size_t>(p)];
+      for (std::size_t i = b; i < e && !complete && !risky_hit_; ++i) {
+        const std::int32_t t = pieces_[i].target;  // by index: test() appends to pieces_
+        if (seen(t)) continue;
+        enqueue(t);
+        flood(s);
+        complete = !risky_hit_ && covered();
+      }
+      if (!complete && !risky_hit_) {
+        // Step 2: all processed neighbours' targets and their neighbours.
+        for (const std::int32_t q : sh_.source.neighbors[static_cast<std::size_t>(s)])
+          if (q >= ch.begin && q < ch.end && sh_.state[static_cast<std::size_t>(q)] == 2) enqueue_targets_of(q);
+        flood(s);
+        complete = !risky_hit_ && covered();
+      }
+    }
+    // Step 3: at risk.
+    if (!complete) rtree_pass(s);
+    end_cell(s);
+  }
+
+  const Shared& sh_;
+  std::vector<std::uint32_t> mark_;
+  std::uint32_t stamp_ = 0;
+  std::vector<std::int32_t> cand_, queue_;
+  std::size_t head_ = 0;
+  std::vector<RValue> hits_;
+  std::vector<SupermeshPiece> pieces_;
+  std::vector<Polyhedron> polyhedra_;
+  std::size_t candidates_ = 0;
+  bool risky_hit_ = false;
+  double covered_ = 0.0;  // volume of s's pieces found so far
+  Tet S_{};
+  Tet T_{};  // the target cell last tested
+  Box sbox_{};
+  double svol_ = 0.0;
+  Polyhedron poly_;
+};
+
+}  // namespace
+
+Supermesh supermesh(const TetMesh& source, const TetMesh& target, const SupermeshOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Supermesh out;
+  out.source = &source;
+  out.target = &target;
+  const std::size_t ns = source.num_cells(), nt = target.num_cells();
+  if (ns == 0 || nt == 0) return out;
+
+  // Target bounding boxes, the R-tree (packed: bulk loading), and risky targets.
+  std::vector<Box> target_box(nt);
+  std::vector<std::uint8_t> risky(nt, 0);
+  std::vector<RValue> values(nt);
+  const auto nt_i = static_cast<std::int64_t>(nt);
+#pragma omp parallel for schedule(static) num_threads(options.threads > 0 ? options.threads : omp_get_max_threads())
+  for (std::int64_t i = 0; i < nt_i; ++i) {
+    const auto t = static_cast<std::size_t>(i);
+    target_box[t] = box_of(target.cell(t));
+    values[t] = {to_bbox(target_box[t]), static_cast<std::int32_t>(i)};
+    std::uint8_t r = 0;
+    for (const std::int32_t n : target.neighbors[t])
+      r |= static_cast<std::uint8_t>(n < 0 || !(target.volumes[static_cast<std::size_t>(n)] > 0.0));
+    risky[t] = r;
+  }
+  const RTree tree(values.begin(), values.end());
+  values = {};
+
+  std::vector<std::uint8_t> state(ns, 0);
+  std::vector<std::int32_t> parent(ns, -1);
+  std::vector<std::size_t> piece_begin(ns, 0), piece_count(ns, 0);
+  const Shared sh{source, target, tree, target_box, risky, options.keep_polyhedra,
+                  state, parent, piece_begin, piece_count};
+
+  // Chunks of consecutive source cells; their number depends on the mesh only.
+  constexpr std::size_t kChunkCells = 4096;
+  const std::size_t nchunks = std::clamp<std::size_t>((ns + kChunkCells - 1) / kChunkCells, 1, 1024);
+  std::vector<Chunk> chunks(nchunks);
+  for (std::size_t c = 0; c < nchunks; ++c) {
+    chunks[c].begin = static_cast<std::int32_t>(ns * c / nchunks);
+    chunks[c].end = static_cast<std::int32_t>(ns * (c + 1) / nchunks);
+  }
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  const auto nchunks_i = static_cast<std::int64_t>(nchunks);
+  std::vector<std::unique_ptr<Worker>> workers(static_cast<std::size_t>(threads));
+#pragma omp parallel num_threads(threads)
+  {
+    const int id = omp_get_thread_num();
+    auto& w = workers[static_cast<std::size_t>(id)];
+    w = std::make_unique<Worker>(sh);
+#pragma omp for schedule(dynamic, 1)
+    for (std::int64_t c = 0; c < nchunks_i; ++c) w->run_chunk(chunks[static_cast<std::size_t>(c)], id, options.search);
+  }
+
+  // Counting sort by target of references to the pieces (chunk order), then by source within
+  // each target (segments are short), then one gather: pieces and polyhedra are copied once.
+  struct Ref {
+    std::int32_t source;
+    std::int32_t worker;
+    std::size_t index;
+  };
+  std::vector<std::size_t> offset(nt + 1, 0);
+  std::size_t total = 0;
+  for (const Chunk& ch : chunks) {
+    out.candidates += ch.candidates;
+    total += ch.last - ch.first;
+    const auto& pcs = workers[static_cast<std::size_t>(ch.worker)]->pieces();
+    for (std::size_t i = ch.first; i < ch.last; ++i) ++offset[static_cast<std::size_t>(pcs[i].target) + 1];
+  }
+  for (std::size_t t = 0; t < nt; ++t) offset[t + 1] += offset[t];
+  std::vector<Ref> refs;
+  reserve_huge(refs, total);
+  refs.resize(total);
+  {
+    std::vector<std::size_t> pos(offset.begin(), offset.end() - 1);
+    for (const Chunk& ch : chunks) {
+      const auto& pcs = workers[static_cast<std::size_t>(ch.worker)]->pieces();
+      for (std::size_t i = ch.first; i < ch.last; ++i)
+        refs[pos[static_cast<std::size_t>(pcs[i].target)]++] = Ref{pcs[i].source, ch.worker, i};
+    }
+  }
+  reserve_huge(out.pieces, total);
+  out.pieces.resize(total);
+  const auto total_i = static_cast<std::int64_t>(total);
+#pragma omp parallel num_threads(threads)
+  {
+#pragma omp for schedule(static)
+    for (std::int64_t ti = 0; ti < nt_i; ++ti) {
+      const auto b = refs.begin() + static_cast<std::ptrdiff_t>(offset[static_cast<std::size_t>(ti)]);
+      const auto e = refs.begin() + static_cast<std::ptrdiff_t>(offset[static_cast<std::size_t>(ti) + 1]);
+      std::sort(b, e, [](const Ref& x, const Ref& y) { return x.source < y.source; });
+    }
+#pragma omp for schedule(static)
+    for (std::int64_t k = 0; k < total_i; ++k) {
+      const Ref& r = refs[static_cast<std::size_t>(k)];
+      out.pieces[static_cast<std::size_t>(k)] = workers[static_cast<std::size_t>(r.worker)]->pieces()[r.index];
+    }
+  }
+  if (options.keep_polyhedra) {
+    reserve_huge(out.polyhedra, total);
+    for (const Ref& r : refs) out.polyhedra.push_back(workers[static_cast<std::size_t>(r.worker)]->polyhedra()[r.index]);
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace tetia

@@ -3,13 +3,24 @@
 // Contract: P0 (cell averages) is the L2 projection onto piecewise constants: target value =
 // sum over pieces of (source value * piece volume) / target cell volume; it conserves the
 // integral over the overlap and reproduces constants exactly where the target is covered.
+// Target cells only partly covered by the source domain: by default (cell_volume) the source
+// field counts as zero outside its domain, so the value is the covered fraction times the
+// covered average, and sum(u_t |t|) equals the source integral over the overlap to rounding.
+// P0Normalization::covered_volume divides by the covered volume (sum of the cell's piece
+// volumes) instead: constants are reproduced on every cell the source touches, and the
+// integral over the overlap, sum(u_t covered_t), is conserved; cells not covered at all get 0.
 // P1 (continuous, nodal) is the Galerkin L2 projection: M_t u_t = M_ts u_s with M_t the target
 // mass matrix and M_ts the mixed mass matrix assembled exactly on the supermesh (products of
 // linear functions integrated exactly on a tetrahedralization of each piece), solved by
-// conjugate gradients. It needs the supermesh built with keep_polyhedra.
+// conjugate gradients. It needs the supermesh built with keep_polyhedra. M_t is the full
+// (consistent) target mass matrix, so the source field again counts as zero outside its domain:
+// the integral over the target equals the source integral over the overlap (to the solver
+// tolerance) whatever the coverage, and where the domains coincide linear fields are reproduced;
+// near the edge of a partial overlap the projection falls off towards zero.
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -17,7 +28,13 @@
 
 namespace tetia {
 
-std::vector<double> remap_p0(const Supermesh& s, std::span<const double> source_cell_values);
+enum class P0Normalization { cell_volume, covered_volume };
+
+std::vector<double> remap_p0(const Supermesh& s, std::span<const double> source_cell_values,
+                             P0Normalization normalization = P0Normalization::cell_volume);
+
+/// Per target cell, the volume the source mesh covers (the sum of its pieces' volumes).
+std::vector<double> covered_volumes(const Supermesh& s);
 
 struct P1RemapReport {
   int iterations = 0;
@@ -30,5 +47,18 @@ std::vector<double> remap_p1(const Supermesh& s, std::span<const double> source_
 /// The mixed mass (coupling) matrix M_ts (rows: target nodes, columns: source nodes) in Matrix
 /// Market coordinate format.
 void write_mixed_mass_matrix(const Supermesh& s, const std::filesystem::path& file);
+
+/// Integrals of a piecewise constant (per cell) and a continuous piecewise linear (per node) field.
+double integral_p0(const TetMesh& mesh, std::span<const double> cell_values);
+double integral_p1(const TetMesh& mesh, std::span<const double> node_values);
+
+/// Cell averages of f, by a 64-point conical product Gauss rule per cell (exact for degree 5).
+std::vector<double> average_over_cells(const TetMesh& mesh, const std::function<double(Vec3)>& f);
+
+/// L2 norm of (field - f) over the mesh, by the same rule.
+double l2_error_p0(const TetMesh& mesh, std::span<const double> cell_values,
+                   const std::function<double(Vec3)>& f);
+double l2_error_p1(const TetMesh& mesh, std::span<const double> node_values,
+                   const std::function<double(Vec3)>& f);
 
 }  // namespace tetia

@@ -2,10 +2,14 @@
 //
 // Contract: supermesh(source, target) returns every pair (source cell, target cell) whose
 // intersection has positive volume, with its volume and first moments, sorted by (target,
-// source); on request also the polyhedra. Candidates are found by an advancing front over face
-// adjacency, seeded per connected region by an R-tree query (linear complexity, robust to
-// non-convex domains, holes, several components, identical and face-sharing cells), or by a
-// plain R-tree search. Results are identical for any number of threads.
+// source); on request also the polyhedra. "Positive" is above the resolution of double
+// arithmetic: pieces of volume at most 1e-14 times the smaller cell's volume are dropped (there
+// the kernel cannot tell a sliver from a touching contact; such pieces are in practice 1e-30 of
+// a cell or less). Candidates are found by an advancing front over face adjacency, seeded per
+// connected region by an R-tree query, with an R-tree query for the cells the front cannot
+// vouch for (near the target boundary; linear complexity, robust to non-convex domains, holes,
+// several components, identical and face-sharing cells), or by a plain R-tree search; both give
+// the same pieces. Results are identical for any number of threads.
 #pragma once
 
 #include <cstddef>
@@ -36,7 +40,7 @@ struct Supermesh {
   const TetMesh* target = nullptr;
   std::vector<SupermeshPiece> pieces;  ///< sorted by (target, source)
   std::vector<Polyhedron> polyhedra;   ///< pieces[k]'s polyhedron (U = source cell, V = target cell), if kept
-  std::size_t candidates = 0;          ///< pairs handed to the kernel
+  std::size_t candidates = 0;          ///< pairs handed to the kernel (the same for any number of threads)
   double seconds = 0.0;
   double intersection_volume() const;
 };

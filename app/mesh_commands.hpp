@@ -1,0 +1,33 @@
+// app/mesh_commands.hpp -- `tetia supermesh`, `tetia remap` and `tetia demo`: the mesh side of
+// the command line. Each prints a JSON summary on stdout, progress on stderr when stderr is a
+// terminal, and returns an exit code (0 ok, 1 failure, 2 bad usage or bad input file).
+#pragma once
+
+#include <string>
+
+namespace tetia::app {
+
+struct SupermeshCommand {
+  std::string source, target, output;  // output: VTU of the supermesh's tetrahedralization
+  int threads = 0;
+  std::string search = "front";
+};
+
+struct RemapCommand {
+  std::string source, target, output, matrix;
+  std::string field, expr;
+  int order = 0;
+  int threads = 0;
+};
+
+struct DemoCommand {
+  std::string output_dir = "tetia-demo";
+  double size = 0.12;  // element size of the finer mesh
+  int threads = 0;
+};
+
+int run_supermesh(const SupermeshCommand& cmd);
+int run_remap(const RemapCommand& cmd);
+int run_demo(const DemoCommand& cmd);
+
+}  // namespace tetia::app
