@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
-# The main job: builds the `tetia` executable and runs `tetia pairs` on the example pairs in
-# examples/pairs.txt (or the file given as $1), next to the exact volume (GMP rationals),
-# with the relative error of each. Fails if tetia disagrees with the exact volume by more
-# than 1e-10, relative (absolute where the exact volume is 0).
+# The main job: builds the `tetia` executable, then
+#  1. `tetia pairs` on the example pairs in examples/pairs.txt (or the file given as $1), next to
+#     the exact volume (GMP rationals), with the relative error of each; fails if tetia
+#     disagrees with the exact volume by more than 1e-10, relative (absolute where it is 0);
+#  2. `tetia demo`: two non-matching Gmsh meshes of a box and a ball against a box, their
+#     supermesh, P0 and P1 remap of sin(x) cos(y) exp(z) both ways, a table, VTU files in
+#     tetia-demo/.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -39,3 +42,7 @@ paste "$tmp/names" "$tmp/tetia" "$tmp/exact" | awk -F'\t' '
     if (bad) { printf "\n%d pair(s) disagree with the exact volume\n", bad; exit 1 }
     printf "\nall %d pairs agree with the exact volume\n", NR
   }'
+
+echo
+echo "tetia demo (meshes, supermesh, conservative remap; VTU files in tetia-demo/):"
+./build/tetia demo -o tetia-demo
