@@ -22,6 +22,7 @@
 #include "tetia/baselines.hpp"
 #include "tetia/exact.hpp"
 #include "tetia/geometry.hpp"
+#include "support/generators.hpp"
 
 namespace {
 
@@ -30,47 +31,13 @@ using tetia::Vec3;
 namespace baselines = tetia::baselines;
 namespace exact = tetia::exact;
 
-const Tet kRef = {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}};
+const Tet& kRef = tetia::testgen::kRefTet;
+using tetia::testgen::kuhn_tets;
 
-Tet translated(const Tet& t, Vec3 d) {
-  Tet r = t;
-  for (Vec3& p : r) p = p + d;
-  return r;
-}
 
-Tet scaled(const Tet& t, double s) {
-  Tet r = t;
-  for (Vec3& p : r) p = s * p;
-  return r;
-}
 
-Tet random_tet(std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  Tet t;
-  for (Vec3& p : t) p = {u(rng), u(rng), u(rng)};
-  return t;
-}
 
-Tet grid_tet(std::mt19937_64& rng) {
-  std::uniform_int_distribution<int> g(0, 4);
-  Tet t;
-  for (Vec3& p : t) p = {g(rng) / 4.0, g(rng) / 4.0, g(rng) / 4.0};
-  return t;
-}
 
-std::array<Tet, 6> kuhn_tets() {
-  std::array<Tet, 6> out;
-  std::array<int, 3> p = {0, 1, 2};
-  int i = 0;
-  do {
-    Vec3 a{}, b{};
-    a[p[0]] = 1;
-    b[p[0]] = 1;
-    b[p[1]] = 1;
-    out[i++] = {Vec3{0, 0, 0}, a, b, Vec3{1, 1, 1}};
-  } while (std::next_permutation(p.begin(), p.end()));
-  return out;
-}
 
 double scale_of(const Tet& u, const Tet& v) { return std::max(tetia::volume(u), tetia::volume(v)); }
 
@@ -99,14 +66,14 @@ TEST_P(Baseline, IdenticalTetrahedra) {
   EXPECT_NEAR(f(kRef, permuted), 1.0 / 6, kTol);
   EXPECT_NEAR(f(permuted, kRef), 1.0 / 6, kTol);
   std::mt19937_64 rng(7);
-  const Tet r = random_tet(rng);
+  const Tet r = tetia::testgen::unit_random_tet(rng);
   const Tet r2 = {r[2], r[0], r[3], r[1]};
   EXPECT_NEAR(f(r, r2), tetia::volume(r), kTol);
 }
 
 TEST_P(Baseline, DisjointAndTouchingAreZero) {
   const auto& f = *this;
-  EXPECT_EQ(f(kRef, translated(kRef, {2, 0, 0})), 0.0);
+  EXPECT_EQ(f(kRef, tetia::testgen::translate(kRef, {2, 0, 0})), 0.0);
   const Tet face = {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}, Vec3{1, 1, 1}};
   EXPECT_EQ(f(kRef, face), 0.0);
   EXPECT_EQ(f(face, kRef), 0.0);
@@ -115,7 +82,7 @@ TEST_P(Baseline, DisjointAndTouchingAreZero) {
   EXPECT_EQ(f(mirror, kRef), 0.0);
   const Tet edge = {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, -1, 0}, Vec3{0, 0, -1}};
   EXPECT_EQ(f(kRef, edge), 0.0);
-  EXPECT_EQ(f(kRef, scaled(kRef, -1.0)), 0.0);  // a common vertex
+  EXPECT_EQ(f(kRef, tetia::testgen::scale(kRef, -1.0)), 0.0);  // a common vertex
 }
 
 TEST_P(Baseline, KuhnTetrahedra) {
@@ -132,14 +99,14 @@ TEST_P(Baseline, KuhnTetrahedra) {
 
 TEST_P(Baseline, ScaledAndTranslatedCopies) {
   const auto& f = *this;
-  EXPECT_NEAR(f(kRef, scaled(kRef, 0.5)), 1.0 / 48, kTol);
-  EXPECT_NEAR(f(scaled(kRef, 0.5), kRef), 1.0 / 48, kTol);
+  EXPECT_NEAR(f(kRef, tetia::testgen::scale(kRef, 0.5)), 1.0 / 48, kTol);
+  EXPECT_NEAR(f(tetia::testgen::scale(kRef, 0.5), kRef), 1.0 / 48, kTol);
   for (double t : {1.0 / 1024, 0.125, 0.25, 0.5, 0.75, -0.25, -0.5}) {
     const double s = 1 - std::abs(t);
-    EXPECT_NEAR(f(kRef, translated(kRef, {t, 0, 0})), s * s * s / 6, kTol) << t;
-    EXPECT_NEAR(f(translated(kRef, {0, t, 0}), kRef), s * s * s / 6, kTol) << t;
+    EXPECT_NEAR(f(kRef, tetia::testgen::translate(kRef, {t, 0, 0})), s * s * s / 6, kTol) << t;
+    EXPECT_NEAR(f(tetia::testgen::translate(kRef, {0, t, 0}), kRef), s * s * s / 6, kTol) << t;
   }
-  EXPECT_EQ(f(kRef, translated(kRef, {1.5, 0, 0})), 0.0);
+  EXPECT_EQ(f(kRef, tetia::testgen::translate(kRef, {1.5, 0, 0})), 0.0);
 }
 
 TEST_P(Baseline, CoplanarFaces) {
@@ -176,7 +143,7 @@ TEST_P(Baseline, BadInputGivesAFiniteNonNegativeValue) {
   std::mt19937_64 rng(3);
   for (double s : {1e200, 1e-200, 1e100, 1e-110}) {
     for (int i = 0; i < 50; ++i) {
-      const double r = f(scaled(random_tet(rng), s), scaled(random_tet(rng), s));
+      const double r = f(tetia::testgen::scale(tetia::testgen::unit_random_tet(rng), s), tetia::testgen::scale(tetia::testgen::unit_random_tet(rng), s));
       EXPECT_TRUE(std::isfinite(r) && r >= 0.0) << s << " " << r;
     }
   }
@@ -189,7 +156,7 @@ TEST_P(Baseline, AgreesWithExactOnRandomPairs) {
   int failures = 0, strict_failures = 0, nonzero = 0;
   double worst = 0.0;
   for (int i = 0; i < 2000; ++i) {
-    const Tet u = random_tet(rng), v = random_tet(rng);
+    const Tet u = tetia::testgen::unit_random_tet(rng), v = tetia::testgen::unit_random_tet(rng);
     const double e = exact::intersection_volume_double(u, v);
     const double r = f(u, v);
     ASSERT_TRUE(std::isfinite(r) && r >= 0.0);
@@ -212,7 +179,7 @@ TEST_P(Baseline, AgreesWithExactOnGridPairs) {
   std::mt19937_64 rng(4);
   int failures = 0;
   for (int i = 0; i < 2000; ++i) {
-    const Tet u = grid_tet(rng), v = grid_tet(rng);
+    const Tet u = tetia::testgen::quarter_grid_tet(rng), v = tetia::testgen::quarter_grid_tet(rng);
     const double e = exact::intersection_volume_double(u, v);
     const double r = f(u, v);
     ASSERT_TRUE(std::isfinite(r) && r >= 0.0);
@@ -229,7 +196,7 @@ TEST_P(Baseline, Timing) {
   const int pairs = GetParam().fn == &baselines::clip_volume ? 200000 : 20000;
   std::vector<std::pair<Tet, Tet>> input;
   input.reserve(pairs);
-  for (int i = 0; i < pairs; ++i) input.emplace_back(random_tet(rng), random_tet(rng));
+  for (int i = 0; i < pairs; ++i) input.emplace_back(tetia::testgen::unit_random_tet(rng), tetia::testgen::unit_random_tet(rng));
   double sum = 0.0;
   const auto t0 = std::chrono::steady_clock::now();
   for (const auto& [u, v] : input) sum += f(u, v);

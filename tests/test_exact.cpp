@@ -17,6 +17,7 @@
 
 #include "tetia/exact.hpp"
 #include "tetia/geometry.hpp"
+#include "support/generators.hpp"
 
 namespace {
 
@@ -24,49 +25,13 @@ using tetia::Tet;
 using tetia::Vec3;
 namespace exact = tetia::exact;
 
-const Tet kRef = {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}};
+const Tet& kRef = tetia::testgen::kRefTet;
+using tetia::testgen::kuhn_tets;
 
-Tet translated(const Tet& t, Vec3 d) {
-  Tet r = t;
-  for (Vec3& p : r) p = p + d;
-  return r;
-}
 
-Tet scaled(const Tet& t, double s) {
-  Tet r = t;
-  for (Vec3& p : r) p = s * p;
-  return r;
-}
 
-Tet random_tet(std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  Tet t;
-  for (Vec3& p : t) p = {u(rng), u(rng), u(rng)};
-  return t;
-}
 
-// Coordinates on the grid {0, 1/4, ..., 1}: many coplanar faces, shared vertices and edges.
-Tet grid_tet(std::mt19937_64& rng) {
-  std::uniform_int_distribution<int> g(0, 4);
-  Tet t;
-  for (Vec3& p : t) p = {g(rng) / 4.0, g(rng) / 4.0, g(rng) / 4.0};
-  return t;
-}
 
-// The six Kuhn tetrahedra of the unit cube: 0, e_p0, e_p0 + e_p1, (1,1,1) for each permutation p.
-std::array<Tet, 6> kuhn_tets() {
-  std::array<Tet, 6> out;
-  std::array<int, 3> p = {0, 1, 2};
-  int i = 0;
-  do {
-    Vec3 a{}, b{};
-    a[p[0]] = 1;
-    b[p[0]] = 1;
-    b[p[1]] = 1;
-    out[i++] = {Vec3{0, 0, 0}, a, b, Vec3{1, 1, 1}};
-  } while (std::next_permutation(p.begin(), p.end()));
-  return out;
-}
 
 // All 24 vertex orders of t.
 std::array<Tet, 24> permutations(const Tet& t) {
@@ -89,7 +54,7 @@ TEST(ExactVolume, ReferenceTetInBothOrientations) {
 
 TEST(ExactIntersection, IdenticalInEveryVertexOrder) {
   std::mt19937_64 rng(7);
-  for (const Tet& base : {kRef, random_tet(rng)}) {
+  for (const Tet& base : {kRef, tetia::testgen::unit_random_tet(rng)}) {
     const mpq_class vol = exact::volume(base);
     const auto perms = permutations(base);
     for (const Tet& a : perms) {
@@ -101,7 +66,7 @@ TEST(ExactIntersection, IdenticalInEveryVertexOrder) {
 }
 
 TEST(ExactIntersection, Disjoint) {
-  EXPECT_EQ(exact::intersection_volume(kRef, translated(kRef, {2, 0, 0})), 0);
+  EXPECT_EQ(exact::intersection_volume(kRef, tetia::testgen::translate(kRef, {2, 0, 0})), 0);
   // Separated only by the slanted plane x + y + z = 1.1, with overlapping bounding boxes.
   const Tet far = {Vec3{1, 1, 1}, Vec3{0.6, 0.6, 0}, Vec3{0, 0.6, 0.6}, Vec3{0.6, 0, 0.6}};
   EXPECT_EQ(exact::intersection_volume(kRef, far), 0);
@@ -122,7 +87,7 @@ TEST(ExactIntersection, TouchingIsExactlyZero) {
   // Along an edge and at a vertex.
   const Tet edge = {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, -1, 0}, Vec3{0, 0, -1}};
   EXPECT_EQ(exact::intersection_volume(kRef, edge), 0);
-  const Tet vertex = translated(scaled(kRef, -1.0), {0, 0, 0});
+  const Tet vertex = tetia::testgen::translate(tetia::testgen::scale(kRef, -1.0), {0, 0, 0});
   EXPECT_EQ(exact::intersection_volume(kRef, vertex), 0);
 }
 
@@ -145,7 +110,7 @@ TEST(ExactIntersection, KuhnPartitionOfRandomTetsInTheCube) {
   const auto kuhn = kuhn_tets();
   std::mt19937_64 rng(11);
   for (int trial = 0; trial < 150; ++trial) {
-    const Tet w = trial % 2 == 0 ? random_tet(rng) : grid_tet(rng);
+    const Tet w = trial % 2 == 0 ? tetia::testgen::unit_random_tet(rng) : tetia::testgen::quarter_grid_tet(rng);
     mpq_class sum = 0;
     for (const Tet& k : kuhn) sum += exact::intersection_volume(k, w);
     ASSERT_EQ(sum, exact::volume(w)) << "trial " << trial;
@@ -153,8 +118,8 @@ TEST(ExactIntersection, KuhnPartitionOfRandomTetsInTheCube) {
 }
 
 TEST(ExactIntersection, HalfScaledCopy) {
-  EXPECT_EQ(exact::intersection_volume(kRef, scaled(kRef, 0.5)), mpq_class(1, 48));
-  EXPECT_EQ(exact::intersection_volume(scaled(kRef, 0.5), kRef), mpq_class(1, 48));
+  EXPECT_EQ(exact::intersection_volume(kRef, tetia::testgen::scale(kRef, 0.5)), mpq_class(1, 48));
+  EXPECT_EQ(exact::intersection_volume(tetia::testgen::scale(kRef, 0.5), kRef), mpq_class(1, 48));
 }
 
 TEST(ExactIntersection, CornerCutByTranslation) {
@@ -164,8 +129,8 @@ TEST(ExactIntersection, CornerCutByTranslation) {
                    -0.5, -0.75, -1.0, -3.0}) {
     const mpq_class s = 1 - abs(mpq_class(t));
     const mpq_class expected = s > 0 ? mpq_class(s * s * s / 6) : mpq_class(0);
-    EXPECT_EQ(exact::intersection_volume(kRef, translated(kRef, {t, 0, 0})), expected) << t;
-    EXPECT_EQ(exact::intersection_volume(translated(kRef, {0, 0, t}), kRef), expected) << t;
+    EXPECT_EQ(exact::intersection_volume(kRef, tetia::testgen::translate(kRef, {t, 0, 0})), expected) << t;
+    EXPECT_EQ(exact::intersection_volume(tetia::testgen::translate(kRef, {0, 0, t}), kRef), expected) << t;
   }
 }
 
@@ -223,8 +188,8 @@ TEST(ExactIntersection, RandomPairsSymmetricScaledAndBounded) {
   std::mt19937_64 rng(2024);
   for (int trial = 0; trial < 300; ++trial) {
     const bool grid = trial % 3 == 2;
-    const Tet u = grid ? grid_tet(rng) : random_tet(rng);
-    const Tet v = grid ? grid_tet(rng) : random_tet(rng);
+    const Tet u = grid ? tetia::testgen::quarter_grid_tet(rng) : tetia::testgen::unit_random_tet(rng);
+    const Tet v = grid ? tetia::testgen::quarter_grid_tet(rng) : tetia::testgen::unit_random_tet(rng);
     const mpq_class vol = exact::intersection_volume(u, v);
     ASSERT_GE(vol, 0);
     ASSERT_LE(vol, exact::volume(u));
@@ -235,10 +200,10 @@ TEST(ExactIntersection, RandomPairsSymmetricScaledAndBounded) {
     std::rotate(v2.begin(), v2.begin() + 1, v2.end());
     ASSERT_EQ(exact::intersection_volume(u2, v2), vol) << trial;
     // Scaling by a power of two is exact in doubles and multiplies the volume by its cube.
-    ASSERT_EQ(exact::intersection_volume(scaled(u, 0x1p-300), scaled(v, 0x1p-300)),
+    ASSERT_EQ(exact::intersection_volume(tetia::testgen::scale(u, 0x1p-300), tetia::testgen::scale(v, 0x1p-300)),
               vol / (mpq_class(1) << 900))
         << trial;
-    ASSERT_EQ(exact::intersection_volume(scaled(u, 0x1p+200), scaled(v, 0x1p+200)),
+    ASSERT_EQ(exact::intersection_volume(tetia::testgen::scale(u, 0x1p+200), tetia::testgen::scale(v, 0x1p+200)),
               vol * (mpq_class(1) << 600))
         << trial;
   }
@@ -252,8 +217,8 @@ TEST(ExactIntersection, AdditiveOverASplitOfV) {
   int checked = 0;
   for (int trial = 0; trial < 300; ++trial) {
     const bool grid = trial % 2 == 1;
-    const Tet u = grid ? grid_tet(rng) : random_tet(rng);
-    const Tet v = grid ? grid_tet(rng) : random_tet(rng);
+    const Tet u = grid ? tetia::testgen::quarter_grid_tet(rng) : tetia::testgen::unit_random_tet(rng);
+    const Tet v = grid ? tetia::testgen::quarter_grid_tet(rng) : tetia::testgen::unit_random_tet(rng);
     // The rounded centroid (exact on the grid); used only if it is inside V, which the volumes
     // of the four pieces verify exactly.
     const Vec3 p = 0.25 * (v[0] + v[1] + v[2] + v[3]);
@@ -284,13 +249,13 @@ TEST(ExactIntersection, DoubleIsCorrectlyRounded) {
   for (int trial = 0; trial < 200; ++trial) {
     // Include scales where the volume is subnormal (2^-1050 / 6 and so on) or vanishes.
     const double scale = std::ldexp(1.0, trial % 4 == 0 ? -348 - trial % 16 : 0);
-    const Tet u = scaled(random_tet(rng), scale), v = scaled(random_tet(rng), scale);
+    const Tet u = tetia::testgen::scale(tetia::testgen::unit_random_tet(rng), scale), v = tetia::testgen::scale(tetia::testgen::unit_random_tet(rng), scale);
     const mpq_class q = exact::intersection_volume(u, v);
     const double r = exact::intersection_volume_double(u, v);
     ASSERT_GE(r, 0.0);
     expect_nearest(r, q);
   }
-  const Tet tiny = scaled(kRef, 0x1p-350);  // volume 2^-1050 / 6: 21 significant bits left
+  const Tet tiny = tetia::testgen::scale(kRef, 0x1p-350);  // volume 2^-1050 / 6: 21 significant bits left
   expect_nearest(exact::intersection_volume_double(tiny, tiny), exact::volume(tiny));
 }
 
@@ -298,7 +263,7 @@ TEST(ExactIntersection, TimingOfRandomPairs) {
   std::mt19937_64 rng(1);
   constexpr int kPairs = 2000;
   std::vector<std::pair<Tet, Tet>> pairs;
-  for (int i = 0; i < kPairs; ++i) pairs.emplace_back(random_tet(rng), random_tet(rng));
+  for (int i = 0; i < kPairs; ++i) pairs.emplace_back(tetia::testgen::unit_random_tet(rng), tetia::testgen::unit_random_tet(rng));
   int nonzero = 0;
   const auto t0 = std::chrono::steady_clock::now();
   for (const auto& [u, v] : pairs) nonzero += sgn(exact::intersection_volume(u, v)) != 0;

@@ -694,6 +694,24 @@ inline std::vector<Case> tiny_in_big() {
 
 // --- lattice: the six Kuhn tetrahedra of a cube ----------------------------------------------
 
+/// The reference tetrahedron 0, e1, e2, e3.
+inline const Tet kRefTet{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+
+/// Four points uniform in the unit cube.
+inline Tet unit_random_tet(Rng& g) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Tet t;
+  for (Vec3& p : t) p = {u(g), u(g), u(g)};
+  return t;
+}
+
+/// Four points on the grid {0, 1/4, ..., 1}^3: many coplanar faces, shared vertices and edges.
+inline Tet quarter_grid_tet(Rng& g) {
+  Tet t;
+  for (Vec3& p : t) p = {irand(g, 0, 4) / 4.0, irand(g, 0, 4) / 4.0, irand(g, 0, 4) / 4.0};
+  return t;
+}
+
 /// The Kuhn tetrahedron of the unit cube for the axis order (a, b, c): 0, e_a, e_a + e_b, 1.
 inline std::array<Tet, 6> kuhn_tets() {
   std::array<Tet, 6> out{};
