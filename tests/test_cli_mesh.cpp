@@ -9,7 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <regex>
+#include <string_view>
 #include <sstream>
 #include <string>
 
@@ -34,13 +34,18 @@ std::string slurp(const fs::path& p) {
 
 // The number after "key": in a one-line JSON object (null gives NaN).
 double json_number(const std::string& json, const std::string& key) {
-  const std::regex re("\"" + key + "\": (null|[-+0-9.eE]+)");
-  std::smatch m;
-  if (!std::regex_search(json, m, re)) {
+  const std::string tag = "\"" + key + "\": ";
+  const auto at = json.find(tag);
+  if (at == std::string::npos) {
     ADD_FAILURE() << "no key " << key << " in " << json;
     return std::nan("");
   }
-  return m[1] == "null" ? std::nan("") : std::stod(m[1]);
+  const char* p = json.c_str() + at + tag.size();
+  if (std::string_view(p, 4) == "null") return std::nan("");
+  char* end = nullptr;
+  const double v = std::strtod(p, &end);
+  EXPECT_NE(end, p) << "no number for " << key << " in " << json;
+  return v;
 }
 
 class CliMeshTest : public ::testing::Test {
