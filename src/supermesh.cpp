@@ -2,7 +2,8 @@
 // with positive volume, found by an advancing front over face adjacency or by an R-tree.
 //
 // The front. Source cells are visited in breadth-first order over the source adjacency, within
-// a chunk of consecutive cell indices. For each source cell s:
+// a chunk of consecutive positions along a Morton curve through the cell centroids (a compact
+// region whatever the file's numbering). For each source cell s:
 //
 //   1. Seeds: the targets of s's BFS parent (processed, same chunk), tried one at a time; each
 //      one found positive starts a flood fill: a target t positive with s queues its face
@@ -183,7 +184,7 @@ constexpr double kCoverageTolerance = 1e-12;
 constexpr double kResolution = 1e-14;
 
 struct alignas(64) Chunk {  // aligned: threads fill neighbouring chunks
-  std::int32_t begin = 0, end = 0;  // source cells [begin, end)
+  std::int32_t begin = 0, end = 0;  // positions [begin, end) in the visiting order
   int worker = 0;                   // the thread that ran it, and its pieces there:
   std::size_t first = 0, last = 0;  // [first, last) of that worker's storage
   std::size_t candidates = 0;
@@ -201,6 +202,9 @@ struct Shared {
   std::vector<std::int32_t>& parent;
   std::vector<std::size_t>& piece_begin;  // into its worker's pieces
   std::vector<std::size_t>& piece_count;
+  // The visiting order of the source cells (Morton order of their centroids) and its inverse.
+  const std::vector<std::int32_t>& order;
+  const std::vector<std::int32_t>& rank;
 };
 
 // Per-thread work space, reused across chunks and cells. The pieces (and polyhedra) of all the
@@ -217,7 +221,8 @@ class Worker {
     ch.first = pieces_.size();
     candidates_ = 0;
     if (search == CandidateSearch::rtree) {
-      for (std::int32_t s = ch.begin; s < ch.end; ++s) {
+      for (std::int32_t pos = ch.begin; pos < ch.end; ++pos) {
+        const std::int32_t s = sh_.order[static_cast<std::size_t>(pos)];
         begin_cell(s);
         rtree_pass(s);
         end_cell(s);
@@ -230,9 +235,17 @@ class Worker {
   }
 
  private:
+  // Is source cell n (or -1, no cell) in the chunk, a range of positions in the visiting order?
+  bool in_chunk(std::int32_t n, const Chunk& ch) const {
+    if (n < 0) return false;
+    const std::int32_t r = sh_.rank[static_cast<std::size_t>(n)];
+    return r >= ch.begin && r < ch.end;
+  }
+
   void run_front(const Chunk& ch) {
     queue_.clear();
-    for (std::int32_t start = ch.begin; start < ch.end; ++start) {
+    for (std::int32_t pos = ch.begin; pos < ch.end; ++pos) {
+      const std::int32_t start = sh_.order[static_cast<std::size_t>(pos)];
       if (sh_.state[static_cast<std::size_t>(start)] != 0) continue;
       sh_.state[static_cast<std::size_t>(start)] = 1;
       sh_.parent[static_cast<std::size_t>(start)] = -1;
@@ -242,7 +255,7 @@ class Worker {
         process_front(s, ch);
         sh_.state[static_cast<std::size_t>(s)] = 2;
         for (const std::int32_t n : sh_.source.neighbors[static_cast<std::size_t>(s)]) {
-          if (n < ch.begin || n >= ch.end || sh_.state[static_cast<std::size_t>(n)] != 0) continue;
+          if (!in_chunk(n, ch) || sh_.state[static_cast<std::size_t>(n)] != 0) continue;
           sh_.state[static_cast<std::size_t>(n)] = 1;
           sh_.parent[static_cast<std::size_t>(n)] = s;
           queue_.push_back(n);
@@ -362,7 +375,7 @@ class Worker {
       if (!complete && !risky_hit_) {
         // Step 2: all processed neighbours' targets and their neighbours.
         for (const std::int32_t q : sh_.source.neighbors[static_cast<std::size_t>(s)])
-          if (q >= ch.begin && q < ch.end && sh_.state[static_cast<std::size_t>(q)] == 2) enqueue_targets_of(q);
+          if (in_chunk(q, ch) && sh_.state[static_cast<std::size_t>(q)] == 2) enqueue_targets_of(q);
         flood(s);
         complete = !risky_hit_ && covered();
       }
@@ -421,10 +434,45 @@ Supermesh supermesh(const TetMesh& source, const TetMesh& target, const Supermes
   std::vector<std::uint8_t> state(ns, 0);
   std::vector<std::int32_t> parent(ns, -1);
   std::vector<std::size_t> piece_begin(ns, 0), piece_count(ns, 0);
+  // Source cells are visited along a space-filling (Morton) curve through their centroids, so
+  // that a chunk is a compact region whatever the file's numbering (Gmsh numbers cells in no
+  // spatial order; with chunks of consecutive indices the front then degenerates into R-tree
+  // queries). The order depends on the mesh only: results stay identical for any thread count.
+  std::vector<std::int32_t> order(ns), rank(ns);
+  {
+    Box all = box_of(source.cell(0));
+    for (std::size_t c = 1; c < ns; ++c) {
+      const Box b = box_of(source.cell(c));
+      for (int k = 0; k < 3; ++k) {
+        all.lo[k] = std::min(all.lo[k], b.lo[k]);
+        all.hi[k] = std::max(all.hi[k], b.hi[k]);
+      }
+    }
+    std::vector<std::pair<std::uint64_t, std::int32_t>> keys(ns);
+    for (std::size_t c = 0; c < ns; ++c) {
+      const Tet t = source.cell(c);
+      std::uint64_t key = 0;
+      std::uint64_t q[3];
+      for (int k = 0; k < 3; ++k) {
+        const double centre = 0.25 * (t[0][k] + t[1][k] + t[2][k] + t[3][k]);
+        const double extent = all.hi[k] - all.lo[k];
+        const double f = extent > 0.0 ? (centre - all.lo[k]) / extent : 0.0;
+        q[k] = static_cast<std::uint64_t>(std::clamp(f, 0.0, 1.0) * 2097151.0);  // 21 bits
+      }
+      for (int b = 20; b >= 0; --b)
+        for (int k = 0; k < 3; ++k) key = (key << 1) | ((q[k] >> b) & 1u);
+      keys[c] = {key, static_cast<std::int32_t>(c)};
+    }
+    std::sort(keys.begin(), keys.end());
+    for (std::size_t i = 0; i < ns; ++i) {
+      order[i] = keys[i].second;
+      rank[static_cast<std::size_t>(keys[i].second)] = static_cast<std::int32_t>(i);
+    }
+  }
   const Shared sh{source, target, tree, target_box, risky, options.keep_polyhedra,
-                  state, parent, piece_begin, piece_count};
+                  state, parent, piece_begin, piece_count, order, rank};
 
-  // Chunks of consecutive source cells; their number depends on the mesh only.
+  // Chunks of consecutive positions in that order; their number depends on the mesh only.
   constexpr std::size_t kChunkCells = 4096;
   const std::size_t nchunks = std::clamp<std::size_t>((ns + kChunkCells - 1) / kChunkCells, 1, 1024);
   std::vector<Chunk> chunks(nchunks);
