@@ -242,19 +242,10 @@ void run_sweep(const Options& o) {
 // Sections 4.1 and 5.1: parsimony
 // =============================================================================================
 
-// Section 5.1: X with the signs of Table 5 (the dyadic coordinates of the unit test that
-// reproduce Tables 6 and 7).
+// Section 5.1: X with the signs of Table 5 (the example the unit tests check against Tables 6
+// and 7).
 void combinatorial_example(tetia::detail::KernelTrace& t, tetia::IntersectionStats& st) {
-  const double xyz[4][3] = {
-      {0.5, 0.125, 0.25}, {0.125, 0.375, 0.125}, {0.875, 0.375, -0.75}, {-0.625, -0.75, -0.125}};
-  double C[4][4];
-  for (int i = 0; i < 4; ++i) {
-    C[i][1] = xyz[i][0];
-    C[i][2] = xyz[i][1];
-    C[i][3] = xyz[i][2];
-    C[i][0] = 1.0 - xyz[i][0] - xyz[i][1] - xyz[i][2];
-  }
-  tetia::detail::trace_kernel(C, t, &st);
+  tetia::detail::trace_section51_example(t, &st);
 }
 
 void write_stats(FILE* f, const char* workload, const tetia::IntersectionStats& s) {

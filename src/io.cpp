@@ -613,19 +613,24 @@ TetMesh generate(const std::string& name, double h, double volume, AddShape&& ad
 
 // ---------------------------------------------------------------------------------------------
 
+// Checks the file, opens it in a Gmsh session and extracts its tetrahedra; with `views`, also
+// the data it carries (with their values when `values`).
+static Extracted open_and_extract(const std::filesystem::path& file, const std::string& name,
+                                  std::vector<ViewData>* views, bool values) {
+  check_mesh_file(file, name);
+  GmshSession s(name);
+  load(s, file);
+  Extracted ex = extract(s);
+  if (views != nullptr) *views = loaded_views(s, values);
+  return ex;
+}
+
 // Nodes by increasing tag (all of the file's nodes, used or not), 4-node tetrahedra of every
 // entity and physical group by increasing tag, each node set once; then finalize(mesh, FILE).
 TetMesh read_mesh(const std::filesystem::path& file, MeshReadInfo* info) {
   const std::string name = file.string();
-  check_mesh_file(file, name);
-  Extracted ex;
   std::vector<ViewData> views;
-  {
-    GmshSession s(name);
-    load(s, file);
-    ex = extract(s);
-    if (info != nullptr) views = loaded_views(s, false);
-  }
+  Extracted ex = open_and_extract(file, name, info != nullptr ? &views : nullptr, false);
   if (ex.mesh.cells.empty()) fail(name, no_tets_message(ex));
   finalize(ex.mesh, name);
   if (info != nullptr) {
@@ -642,15 +647,8 @@ TetMesh read_mesh(const std::filesystem::path& file, MeshReadInfo* info) {
 std::vector<double> read_msh_field(const std::filesystem::path& file, const std::string& field_name, bool on_cells) {
   const std::string name = file.string();
   const char* kind = on_cells ? "cell" : "node";
-  check_mesh_file(file, name);
-  Extracted ex;
   std::vector<ViewData> views;
-  {
-    GmshSession s(name);
-    load(s, file);
-    ex = extract(s);
-    views = loaded_views(s, true);
-  }
+  const Extracted ex = open_and_extract(file, name, &views, true);
   const std::string type = on_cells ? "ElementData" : "NodeData";
   const ViewData* found = nullptr;
   std::string available;

@@ -53,20 +53,9 @@ using detail::KernelTrace;
 constexpr double kPi = std::numbers::pi;
 const Tet kRef{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
 
-// Section 5.1: X with the signs of Table 5 (w, x, y, z of vertices 0..3: ++++, ++++, +++-,
-// +---). These dyadic coordinates reproduce Tables 6 and 7 of the paper (found by search).
 KernelTrace combinatorial_example(IntersectionStats* stats = nullptr) {
-  const double xyz[4][3] = {
-      {0.5, 0.125, 0.25}, {0.125, 0.375, 0.125}, {0.875, 0.375, -0.75}, {-0.625, -0.75, -0.125}};
-  double C[4][4];
-  for (int i = 0; i < 4; ++i) {
-    C[i][1] = xyz[i][0];
-    C[i][2] = xyz[i][1];
-    C[i][3] = xyz[i][2];
-    C[i][0] = 1.0 - xyz[i][0] - xyz[i][1] - xyz[i][2];
-  }
   KernelTrace t;
-  detail::trace_kernel(C, t, stats);
+  detail::trace_section51_example(t, stats);
   return t;
 }
 

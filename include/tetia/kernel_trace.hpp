@@ -34,4 +34,23 @@ struct KernelTrace {
 /// Runs the kernel on X given by its barycentric coordinates in Y.
 void trace_kernel(const double (&C)[4][4], KernelTrace& trace, IntersectionStats* stats = nullptr);
 
+/// The combinatorial example of Section 5.1: (x, y, z) of X's vertices with the signs of
+/// Table 5 (w, x, y, z of vertices 0..3: ++++, ++++, +++-, +---); these dyadic values reproduce
+/// Tables 6 and 7 of the paper (found by search). w = 1 - x - y - z.
+inline constexpr double kSection51Example[4][3] = {
+    {0.5, 0.125, 0.25}, {0.125, 0.375, 0.125}, {0.875, 0.375, -0.75}, {-0.625, -0.75, -0.125}};
+
+/// Runs the kernel on the Section 5.1 example.
+inline void trace_section51_example(KernelTrace& trace, IntersectionStats* stats = nullptr) {
+  double C[4][4];
+  for (int i = 0; i < 4; ++i) {
+    const auto& p = kSection51Example[i];
+    C[i][1] = p[0];
+    C[i][2] = p[1];
+    C[i][3] = p[2];
+    C[i][0] = 1.0 - p[0] - p[1] - p[2];
+  }
+  trace_kernel(C, trace, stats);
+}
+
 }  // namespace tetia::detail
