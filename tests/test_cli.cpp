@@ -16,30 +16,15 @@
 #include <string_view>
 #include <vector>
 
+#include "support/cli.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status = -1;  ///< exit status, or -1 if the process did not exit normally
-  std::string out, err;
-};
-
-std::string read_file(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
-std::string shell_quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) {
-    if (c == '\'') q += "'\\''";
-    else q += c;
-  }
-  return q + "'";
-}
+using tetia::testcli::read_file;
+using tetia::testcli::Result;
+using tetia::testcli::shell_quote;
 
 std::vector<std::string> lines_of(const std::string& s) {
   std::vector<std::string> v;
@@ -168,24 +153,14 @@ class CliTest : public ::testing::Test {
     if (!dir_.empty()) fs::remove_all(dir_, ec);
   }
 
-  /// Runs `tetia <args>` with `input` on stdin (empty: /dev/null).
+  /// Runs `tetia <args>` with `input` on stdin.
   Result run(const std::string& args, const std::string& input = "") {
-    const fs::path in = dir_ / ("in" + std::to_string(n_));
-    const fs::path out = dir_ / ("out" + std::to_string(n_));
-    const fs::path err = dir_ / ("err" + std::to_string(n_));
-    ++n_;
+    const fs::path in = dir_ / ("in" + std::to_string(n_++));
     {
       std::ofstream f(in, std::ios::binary);
       f << input;
     }
-    const std::string cmd = shell_quote(TETIA_CLI_PATH) + " " + args + " < " + shell_quote(in.string()) +
-                            " > " + shell_quote(out.string()) + " 2> " + shell_quote(err.string());
-    const int raw = std::system(cmd.c_str());
-    Result r;
-    r.status = (raw != -1 && WIFEXITED(raw)) ? WEXITSTATUS(raw) : -1;
-    r.out = read_file(out);
-    r.err = read_file(err);
-    return r;
+    return tetia::testcli::run(TETIA_CLI_PATH, args, dir_, in);
   }
 
   /// Runs `tetia pairs <args>` on `input`, expects success, returns the output lines.

@@ -13,6 +13,7 @@
 #include <sstream>
 #include <string>
 
+#include "support/cli.hpp"
 #include "tetia/io.hpp"
 #include "tetia/mesh.hpp"
 
@@ -20,18 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
+using tetia::testcli::Result;
 // The number after "key": in a one-line JSON object (null gives NaN).
 double json_number(const std::string& json, const std::string& key) {
   const std::string tag = "\"" + key + "\": ";
@@ -71,17 +61,7 @@ class CliMeshTest : public ::testing::Test {
     fs::remove_all(dir_, ec);
   }
 
-  Result run(const std::string& args) {
-    const fs::path out = dir_ / "out", err = dir_ / "err";
-    const std::string cmd = std::string(TETIA_CLI_PATH) + " " + args + " > " + out.string() + " 2> " +
-                            err.string() + " < /dev/null";
-    const int raw = std::system(cmd.c_str());
-    Result r;
-    r.status = (raw != -1 && WIFEXITED(raw)) ? WEXITSTATUS(raw) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
-  }
+  Result run(const std::string& args) { return tetia::testcli::run(TETIA_CLI_PATH, args, dir_); }
 
   fs::path dir_;
   std::string a_, b_;
@@ -107,7 +87,7 @@ TEST_F(CliMeshTest, SupermeshWritesVtu) {
   const std::string vtu = (dir_ / "s.vtu").string();
   const Result r = run("supermesh " + a_ + " " + b_ + " -o " + vtu);
   ASSERT_EQ(r.status, 0) << r.err;
-  const std::string text = slurp(vtu);
+  const std::string text = tetia::testcli::read_file(vtu);
   EXPECT_NE(text.find("UnstructuredGrid"), std::string::npos);
   EXPECT_NE(text.find("Name=\"source\""), std::string::npos);
   EXPECT_NE(text.find("Name=\"target\""), std::string::npos);
@@ -119,8 +99,8 @@ TEST_F(CliMeshTest, RemapP0OfAStoredFieldIsConservative) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NEAR(json_number(r.out, "source_integral"), 2.0, 1e-12);
   EXPECT_LE(json_number(r.out, "conservation_error"), 1e-13);
-  EXPECT_NE(slurp(dir_ / "m.mtx").find("%%MatrixMarket matrix coordinate real general"), std::string::npos);
-  EXPECT_NE(slurp(dir_ / "r.vtu").find("Name=\"rho\""), std::string::npos);
+  EXPECT_NE(tetia::testcli::read_file(dir_ / "m.mtx").find("%%MatrixMarket matrix coordinate real general"), std::string::npos);
+  EXPECT_NE(tetia::testcli::read_file(dir_ / "r.vtu").find("Name=\"rho\""), std::string::npos);
 }
 
 TEST_F(CliMeshTest, RemapP1ReproducesALinearExpression) {
