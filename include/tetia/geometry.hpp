@@ -53,7 +53,19 @@ struct Vec2 {
   friend constexpr bool operator==(Vec2 a, Vec2 b) = default;
 };
 
-/// Three vertices in any orientation.
+/// Three vertices in any orientation; edges are numbered by the vertex they do not contain.
 using Triangle = std::array<Vec2, 3>;
+
+/// Twice the signed area: det[b - a, c - a]. Positive when (a, b, c) is counter-clockwise.
+/// Plain floating point (not an exact predicate).
+constexpr double orient2d(Vec2 a, Vec2 b, Vec2 c) {
+  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
+
+/// Signed area of a triangle (positive for counter-clockwise vertices).
+constexpr double signed_area(const Triangle& t) { return orient2d(t[0], t[1], t[2]) / 2.0; }
+
+/// Unsigned area of a triangle.
+inline double area(const Triangle& t) { return std::abs(signed_area(t)); }
 
 }  // namespace tetia

@@ -1,0 +1,48 @@
+// tetia/tri_intersection.hpp -- Algorithm 1 (PANG2) of McCoid & Gander, "A provably robust
+// algorithm for triangle-triangle intersections in floating-point arithmetic" (ACM TOMS 48,
+// 2022), as summarized in Algorithm 1 of their tetrahedron paper.
+//
+// Contract (the 2D counterpart of tet_intersection.hpp):
+//  - Any vertex orientation of A and B is accepted. A flat (zero-area, as computed) A or B gives
+//    an empty result, not an error. Non-finite input gives an empty result; check input at the
+//    boundary (the CLI and the mesh readers do).
+//  - The result is consistent: its corners form a closed convex polygon ordered from their labels
+//    alone, so a real intersection cannot vanish through rounding.
+//  - Symmetric: intersect(A, B) and intersect(B, A) compute the same polygon bit for bit (the
+//    better-conditioned triangle is the reference); labels and barycentric coordinates are
+//    reported relative to the argument order.
+//  - No heap allocation, no exceptions.
+#pragma once
+
+#include <cstdint>
+
+#include "tetia/geometry.hpp"
+#include "tetia/polygon.hpp"
+
+namespace tetia {
+
+/// How each sign and coordinate was obtained (Algorithm 1, lines 8-13). Counts add up over calls.
+struct TriIntersectionStats {
+  std::int64_t edge_inherited = 0;      ///< sign shared by both ends of the edge
+  std::int64_t edge_paired = 0;         ///< line 10: the sign of the partner intersection
+  std::int64_t edge_straight_line = 0;  ///< forced by the order of the other two crossings
+  std::int64_t edge_computed = 0;       ///< line 9: a direct calculation
+  std::int64_t corner_coordinates = 0;  ///< coordinates evaluated for corners that lie on Y
+  std::int64_t guardrail_clamps = 0;    ///< a computed coordinate clamped to its decided sign
+  std::int64_t reference_swaps = 0;     ///< A was better conditioned and became the reference
+  std::int64_t inconsistencies = 0;     ///< label walks that did not close (never expected)
+  std::int64_t calls = 0;
+
+  TriIntersectionStats& operator+=(const TriIntersectionStats& o);
+};
+
+/// The intersection polygon of A and B.
+Polygon intersect(const Triangle& A, const Triangle& B, TriIntersectionStats* stats = nullptr);
+
+/// The area of the intersection.
+double intersection_area(const Triangle& A, const Triangle& B);
+
+/// Area and first moments of the intersection, in original coordinates.
+Moments2 intersection_moments(const Triangle& A, const Triangle& B);
+
+}  // namespace tetia

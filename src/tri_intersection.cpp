@@ -1,0 +1,662 @@
+// Algorithm 1 (PANG2) of McCoid & Gander, "A provably robust algorithm for triangle-triangle
+// intersections in floating-point arithmetic" (ACM TOMS 48, 2022), in the form it is summarized
+// as Algorithm 1 of their tetrahedron paper (shared/paper), and built like the 3D kernel in
+// tet_intersection.cpp. Line numbers below are those of Algorithm 1.
+//
+// Notation: B (the reference, the paper's V) is mapped to the reference triangle Y with vertices
+// (0, 0), (1, 0), (0, 1); A (the paper's U) to X by the same affine map. Every point has
+// barycentric coordinates (w, x, y), coordinate p being that of Y's vertex p, and
+// P_p = {p = 0} is the line of Y opposite its vertex p. Signs are binary (sign(v) = 1 for
+// v >= 0, 0 for v < 0): a zero is "inside by an infinitesimal", which makes touching
+// configurations consistent instead of special.
+//
+// The shape of the result is decided from signs only. An edge of X that crosses two or three
+// lines of Y decides every sign of its crossings from the order of the crossings along the edge:
+// one direct calculation (line 9, eq. (2) of the 3D paper) orders two crossings and so decides
+// the pair of signs of line 10; a third crossing is placed by the straight line principle when
+// the two comparisons already made force it. The vertices of Y inside X (lines 11-13) then
+// follow from those signs, and the polygon's corners are ordered counter-clockwise by their
+// labels alone: each corner knows which of the six lines the boundary arrives on and leaves by.
+// Coordinates are evaluated only for corners that lie on Y. Nothing here allocates.
+#include "tetia/tri_intersection.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace tetia {
+
+TriIntersectionStats& TriIntersectionStats::operator+=(const TriIntersectionStats& o) {
+  edge_inherited += o.edge_inherited;
+  edge_paired += o.edge_paired;
+  edge_straight_line += o.edge_straight_line;
+  edge_computed += o.edge_computed;
+  corner_coordinates += o.corner_coordinates;
+  guardrail_clamps += o.guardrail_clamps;
+  reference_swaps += o.reference_swaps;
+  inconsistencies += o.inconsistencies;
+  calls += o.calls;
+  return *this;
+}
+
+std::vector<Triangle> Polygon::triangles() const {
+  std::vector<Triangle> out;
+  if (num_corners_ < 3) return out;
+  out.reserve(static_cast<std::size_t>(num_corners_ - 2));
+  const Vec2 p0 = corners_[0].point;
+  for (int k = 1; k + 1 < num_corners_; ++k) {
+    const Triangle t{p0, corners_[static_cast<std::size_t>(k)].point, corners_[static_cast<std::size_t>(k) + 1].point};
+    if (orient2d(t[0], t[1], t[2]) > 0.0) out.push_back(t);
+  }
+  return out;
+}
+
+namespace detail2 {
+namespace {
+
+using u8 = std::uint8_t;
+
+constexpr bool bit(unsigned mask, int k) { return (mask >> k) & 1u; }
+
+// Corner kinds, in the order of Algorithm 1.
+enum : u8 { kVertexOfX = 0, kEdgeOfX = 1, kVertexOfY = 2 };
+
+// One corner as the kernel finds it. Labels in the kernel's numbering: 0-2 edges of X (edge k
+// is opposite X's vertex k), 3-5 the lines P_0..P_2 of Y. `in` is the line the counter-clockwise
+// boundary of the intersection (in the frame of Y) arrives on, `out` the line it leaves by.
+struct RawCorner {
+  double bary[3];     // coordinates in Y; exactly 0 on the lines of Y the corner lies on
+  double weight_b;    // for a crossing: the weight of the edge's second end (first: 1 - weight_b)
+  u8 kind;
+  u8 index;           // vertex of X, edge * 3 + line, or vertex of Y
+  u8 in, out;
+};
+
+struct KernelResult {
+  static constexpr int kMaxCorners = Polygon::max_corners;
+  RawCorner corners[kMaxCorners];
+  int num_corners = 0;
+  u8 order[kMaxCorners];  // the corners counter-clockwise in the frame of Y
+  bool contradiction = false;
+  bool sub_frame = false;            // area and moments in the frame of X, not of Y
+  double frame_det = 0.0;            // that frame's determinant
+  double ref_area = 0.0;             // area in that frame (its triangle has area 1/2)
+  double ref_first[2] = {0.0, 0.0};  // first moments in that frame
+};
+
+// The endpoints of edge e of a triangle (the edge opposite vertex e), in the cyclic order
+// e + 1 -> e + 2, which is counter-clockwise for a counter-clockwise triangle.
+constexpr int kEdgeFrom[3] = {1, 2, 0};
+constexpr int kEdgeTo[3] = {2, 0, 1};
+
+class Kernel {
+ public:
+  // C: X's barycentric coordinates in Y; x_ccw: whether X's vertices 0, 1, 2 run
+  // counter-clockwise in the frame of Y (the map preserves orientation iff det A and det B have
+  // the same sign).
+  Kernel(const double (&C)[3][3], bool x_ccw, TriIntersectionStats* stats) : C_(C), x_ccw_(x_ccw), stats_(stats) {
+    for (int i = 0; i < 3; ++i) {
+      unsigned m = 0;
+      for (int p = 0; p < 3; ++p) m |= unsigned(C[i][p] >= 0.0) << p;  // binary sign
+      sm_[i] = static_cast<u8>(m);
+    }
+  }
+
+  // Runs Algorithm 1 and orders the corners. Returns false if the labels do not close into one
+  // cycle (which the consistency of the signs excludes; checked, never seen in the tests).
+  bool run(KernelResult& out);
+
+ private:
+  // Does the edge from x_i to x_j cross P_y before P_x? One direct calculation (line 9): the
+  // sign of the x-coordinate of the crossing with P_y, x_y^{ij} = (y_i x_j - y_j x_i) /
+  // (y_i - y_j), eq. (2) of the 3D paper. The crossing still has x_i's x-sign iff P_x comes
+  // later. The numerator of y_x^{ij} is exactly the negative of this one in floating point,
+  // so the pairing of line 10 holds for the computed values too.
+  bool crosses_before(int i, int j, int y, int x) const {
+    const double num = C_[j][x] * C_[i][y] - C_[i][x] * C_[j][y];
+    const bool den_positive = bit(sm_[i], y);  // y_i >= 0 > y_j
+    const bool sign_x = num == 0.0 || ((num > 0.0) == den_positive);
+    return sign_x == bit(sm_[i], x);
+  }
+
+  // Lines 7-10 for edge e: the lines it crosses are those whose signs differ at its ends
+  // (line 8). A coordinate the edge does not cross keeps the sign its ends share (inherited).
+  // Among the crossed lines, signs follow from the order of the crossings along the edge: before
+  // its crossing with P_q a point has x_i's q-sign, after it x_j's. The order comes from an
+  // insertion sort whose comparisons are direct calculations; each decides a pair of signs
+  // (line 10), and an order the sort infers without comparing is the straight line principle.
+  void decide_edge(int e) {
+    const int i = kEdgeFrom[e], j = kEdgeTo[e];
+    const unsigned crossed = (sm_[i] ^ sm_[j]) & 7u;
+    int ord[3], n = 0, computed = 0;
+    for (int p = 0; p < 3; ++p) {
+      if (!bit(crossed, p)) continue;
+      int pos = n;
+      // Compare with the later crossings first; once p is found after one, it is after all
+      // the earlier ones too (straight line principle, no calculation).
+      while (pos > 0) {
+        ++computed;
+        if (!crosses_before(i, j, p, ord[pos - 1])) break;
+        --pos;
+      }
+      for (int k = n; k > pos; --k) ord[k] = ord[k - 1];
+      ord[pos] = p;
+      ++n;
+    }
+    int rank[3] = {0, 0, 0};
+    for (int k = 0; k < n; ++k) rank[ord[k]] = k;
+    for (int p = 0; p < 3; ++p) {
+      if (!bit(crossed, p)) continue;
+      unsigned m = 1u << p;  // on P_p itself the coordinate is 0: sign 1
+      for (int q = 0; q < 3; ++q) {
+        if (q == p) continue;
+        const bool s = !bit(crossed, q) ? bit(sm_[i], q) : (rank[p] < rank[q] ? bit(sm_[i], q) : bit(sm_[j], q));
+        m |= unsigned(s) << q;
+      }
+      cm_[e][p] = static_cast<u8>(m);
+    }
+    if (stats_) {
+      // n crossings, each with two other coordinates: 2n signs. Those of uncrossed lines are
+      // inherited; the n(n-1) others come in pairs, one pair per comparison of two crossings.
+      const int pairs = n * (n - 1) / 2;
+      stats_->edge_inherited += 2 * n - 2 * pairs;
+      stats_->edge_computed += computed;
+      stats_->edge_paired += computed;
+      stats_->edge_straight_line += 2 * (pairs - computed);
+    }
+  }
+
+  // Lines 11-13: the vertex of Y at P_p ∩ P_q lies in X iff the two crossings of X's boundary
+  // with P_p have different q-signs. A line crossed by X is crossed by exactly two edges, the
+  // two at the vertex whose p-sign is the odd one out; a line not crossed sees no vertex.
+  int line_view(int p, int q) const {
+    const unsigned s0 = bit(sm_[0], p), s1 = bit(sm_[1], p), s2 = bit(sm_[2], p);
+    if (s0 == s1 && s1 == s2) return -1;
+    const int lone = s1 == s2 ? 0 : (s0 == s2 ? 1 : 2);
+    // The two edges at `lone` are those opposite the other two vertices.
+    const int e1 = (lone + 1) % 3, e2 = (lone + 2) % 3;
+    return bit(cm_[e1][p], q) != bit(cm_[e2][p], q) ? 1 : 0;
+  }
+
+  void add(KernelResult& out, u8 kind, u8 index, u8 in, u8 o) {
+    RawCorner& c = out.corners[out.num_corners++];
+    c.kind = kind;
+    c.index = index;
+    c.in = in;
+    c.out = o;
+  }
+
+  const double (&C_)[3][3];
+  bool x_ccw_;
+  TriIntersectionStats* stats_;
+  u8 sm_[3];
+  u8 cm_[3][3] = {};  // sign masks of the crossing of edge e with P_p
+};
+
+bool Kernel::run(KernelResult& out) {
+  out.num_corners = 0;
+  out.contradiction = false;
+  // Early outs: X entirely on the negative side of a line of Y (all signs 0), or nowhere
+  // strictly on its positive side (it then touches the line at most: zero area).
+  for (int p = 0; p < 3; ++p) {
+    if (!(C_[0][p] > 0.0 || C_[1][p] > 0.0 || C_[2][p] > 0.0)) return true;
+  }
+  // X's vertices in counter-clockwise order (in the frame of Y).
+  const int nx[3] = {x_ccw_ ? 1 : 2, x_ccw_ ? 2 : 0, x_ccw_ ? 0 : 1};  // next
+  const int px[3] = {nx[nx[0]], nx[nx[1]], nx[nx[2]]};                 // previous
+
+  // Lines 2-6: vertices of X inside Y. The boundary arrives on the edge from the previous
+  // vertex (the edge opposite the next one) and leaves on the edge opposite the previous one.
+  for (int i = 0; i < 3; ++i)
+    if (sm_[i] == 7) add(out, kVertexOfX, static_cast<u8>(i), static_cast<u8>(nx[i]), static_cast<u8>(px[i]));
+  if (out.num_corners < 3) {
+    // Lines 7-10: edges of X against the lines of Y.
+    for (int e = 0; e < 3; ++e) decide_edge(e);
+    for (int e = 0; e < 3; ++e) {
+      const unsigned crossed = (sm_[kEdgeFrom[e]] ^ sm_[kEdgeTo[e]]) & 7u;
+      // The edge's counter-clockwise start: leaving the half-plane {p >= 0} there means the
+      // boundary comes along the edge and goes on along P_p; entering, the reverse.
+      const int start = x_ccw_ ? kEdgeFrom[e] : kEdgeTo[e];
+      for (int p = 0; p < 3; ++p) {
+        if (!bit(crossed, p) || cm_[e][p] != 7) continue;
+        const bool leaving = bit(sm_[start], p);
+        add(out, kEdgeOfX, static_cast<u8>(e * 3 + p), static_cast<u8>(leaving ? e : 3 + p),
+            static_cast<u8>(leaving ? 3 + p : e));
+      }
+    }
+    // Lines 11-13: vertex r of Y, at P_p ∩ P_q. Decided from P_p (or from P_q when X does not
+    // cross P_p); the two views agree by the pairing of line 10 (checked with statistics).
+    for (int r = 0; r < 3; ++r) {
+      const int p = (r + 1) % 3, q = (r + 2) % 3;
+      int inside = line_view(p, q);
+      const int other = line_view(q, p);
+      if (inside < 0) inside = other;
+      if (stats_ && inside >= 0 && other >= 0 && inside != other) out.contradiction = true;
+      // Y is counter-clockwise: the boundary arrives on the line opposite the next vertex.
+      if (inside == 1) add(out, kVertexOfY, static_cast<u8>(r), static_cast<u8>(3 + (r + 1) % 3), static_cast<u8>(3 + (r + 2) % 3));
+    }
+  }
+  // The counter-clockwise order from the labels: the next corner is the one the boundary
+  // arrives at on the line this one leaves by. Each line carries at most one side.
+  const int n = out.num_corners;
+  if (n == 0) return true;
+  if (n < 3) return false;  // a closed boundary has at least three corners
+  int arriving[6] = {-1, -1, -1, -1, -1, -1};
+  for (int c = 0; c < n; ++c) {
+    if (arriving[out.corners[c].in] >= 0) return false;
+    arriving[out.corners[c].in] = c;
+  }
+  unsigned visited = 0;
+  int cur = 0;
+  for (int k = 0; k < n; ++k) {
+    if (cur < 0 || bit(visited, cur)) return false;
+    visited |= 1u << cur;
+    out.order[k] = static_cast<u8>(cur);
+    cur = arriving[out.corners[cur].out];
+  }
+  return cur == 0;
+}
+
+// twice the signed area of (a, b, c) to nearly full relative accuracy, even for a needle whose
+// vertices are almost collinear (there the plain formula loses all digits to the rounding of
+// the differences). The six products of the expanded determinant, bx cy - bx ay - ax cy - by cx
+// + by ax + ay cx, are formed exactly (Dekker's product: no fused multiply-add, which this
+// project keeps off) and summed in double-double. Used only where a sliver's own area scales the
+// result (see corner_coordinates); the sign decisions never need it.
+struct DoubleDouble {
+  double hi = 0.0, lo = 0.0;
+
+  static void split(double a, double& h, double& l) {
+    const double c = 134217729.0 * a;  // 2^27 + 1
+    h = c - (c - a);
+    l = a - h;
+  }
+  void add(double x) {  // Knuth's two-sum, then the error into lo
+    const double s = hi + x;
+    const double bb = s - hi;
+    const double err = (hi - (s - bb)) + (x - bb);
+    hi = s;
+    lo += err;
+  }
+  void add_product(double a, double b) {
+    const double p = a * b;
+    double ah, al, bh, bl;
+    split(a, ah, al);
+    split(b, bh, bl);
+    const double err = al * bl - (((p - ah * bh) - al * bh) - ah * bl);
+    add(p);
+    lo += err;
+  }
+  double value() const { return hi + lo; }
+};
+
+double orient2d_accurate(Vec2 a, Vec2 b, Vec2 c) {
+  DoubleDouble d;
+  d.add_product(b.x, c.y);
+  d.add_product(-b.x, a.y);
+  d.add_product(-a.x, c.y);
+  d.add_product(-b.y, c.x);
+  d.add_product(b.y, a.x);
+  d.add_product(a.y, c.x);
+  return d.value();
+}
+
+// Conditioning of a triangle as a reference: |det| / (sum of squared edge lengths), scale
+// invariant, largest for the equilateral triangle, zero when flat. The determinant's sign is
+// certain when it exceeds Shewchuk's error bound for orient2d; below it, it is evaluated
+// accurately, so that a needle is neither reported with the wrong orientation nor called flat
+// when it is not (exactly collinear vertices give exactly zero: flat, empty result).
+double shape_quality(const Triangle& t, double& det2) {
+  const Vec2 e1 = t[1] - t[0], e2 = t[2] - t[0], e3 = t[2] - t[1];
+  const double l = e1.x * e2.y, r = e1.y * e2.x;
+  det2 = l - r;
+  if (!(std::abs(det2) > (3.0 + 16.0 * 0x1p-53) * 0x1p-53 * (std::abs(l) + std::abs(r))))
+    det2 = orient2d_accurate(t[0], t[1], t[2]);
+  const double s = e1.x * e1.x + e1.y * e1.y + e2.x * e2.x + e2.y * e2.y + e3.x * e3.x + e3.y * e3.y;
+  return std::abs(det2) / s;
+}
+
+// The change of coordinates, one edge at a time (the 2D form of the 3D kernel's
+// BarycentricMap): coordinate k of u is orient2d(a_k, b_k, u) / orient2d(a_k, b_k, r_k) for
+// the edge (a_k, b_k) opposite vertex k, with the edge translated to its own first vertex so
+// that its direction is exact to its own size. A point equal to a vertex of the reference gets
+// exactly that vertex's coordinates; a coordinate within Shewchuk's error bound for orient2d,
+// (3 + 16 eps) eps times the permanent, has no reliable sign and is set to exactly 0 (the point
+// is then on the line: the exact answer for an input perturbed below its own rounding).
+struct BarycentricMap {
+  Vec2 vertex[3];
+  Vec2 anchor[3];
+  Vec2 dir[3];
+  Vec2 to[3];  // the edge's other end
+  double inv;
+
+  static constexpr double kErrBound = (3.0 + 16.0 * 0x1p-53) * 0x1p-53;
+
+  BarycentricMap(const Triangle& r, double det2) : inv(1.0 / det2) {
+    for (int k = 0; k < 3; ++k) {
+      vertex[k] = r[k];
+      anchor[k] = r[kEdgeFrom[k]];
+      dir[k] = r[kEdgeTo[k]] - r[kEdgeFrom[k]];
+      to[k] = r[kEdgeTo[k]];
+      // orient2d(r_{k+1}, r_{k+2}, r_k) is a cyclic shift of orient2d(r_0, r_1, r_2) = det2.
+    }
+  }
+
+  // The same with every numerator evaluated by orient2d_accurate (for a point inside a needle,
+  // whose distance to the long edges the plain formula cannot resolve); no snapping needed.
+  void accurate(Vec2 u, double (&out)[3]) const {
+    for (int k = 0; k < 3; ++k) out[k] = orient2d_accurate(anchor[k], to[k], u) * inv;
+    for (int k = 0; k < 3; ++k)
+      if (u == vertex[k]) {
+        for (int q = 0; q < 3; ++q) out[q] = q == k ? 1.0 : 0.0;
+      }
+  }
+
+  void operator()(Vec2 u, double (&out)[3]) const {
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 w = u - anchor[k];
+      const double l = dir[k].x * w.y, rr = dir[k].y * w.x;
+      const double det = l - rr;
+      out[k] = std::abs(det) > kErrBound * (std::abs(l) + std::abs(rr)) ? det * inv : 0.0;
+    }
+    for (int k = 0; k < 3; ++k)
+      if (u == vertex[k]) {
+        for (int q = 0; q < 3; ++q) out[q] = q == k ? 1.0 : 0.0;
+      }
+  }
+};
+
+struct Frame {
+  const Triangle* sub;  // A's role in the paper (mapped to X)
+  const Triangle* ref;  // B's role (mapped to Y)
+  bool swapped;         // the caller's A is the reference
+  bool x_ccw;           // X is counter-clockwise in the frame of Y
+  double det2;          // det[r1 - r0, r2 - r0]
+  double det2_sub;      // det[s1 - s0, s2 - s0]
+  double C[3][3];
+};
+
+// Coordinates of the corners (only of those that exist), then the area and first moments by a
+// fan from the first corner (differences first: no cancellation against the polygon's position).
+//
+// The area is measured in the frame of the smaller triangle. Each corner's coordinates carry an
+// absolute rounding error of about eps in the frame they are expressed in, so the area comes out
+// with an error of about eps times the area of that frame's triangle; the test bound is relative
+// to the smaller triangle (a sliver against a big one, say). In the frame of Y (the reference)
+// the coordinates are those the kernel computed; in the frame of X (the subject) every corner
+// that lies on X is known there exactly or as the one weight t along an edge of X, and only a
+// vertex of Y inside X needs a change of coordinates.
+template <bool kMoments>
+void corner_coordinates(const Frame& fr, KernelResult& r, TriIntersectionStats* stats) {
+  const auto& C = fr.C;
+  for (int c = 0; c < r.num_corners; ++c) {
+    RawCorner& k = r.corners[c];
+    if (k.kind == kVertexOfX) {
+      for (int p = 0; p < 3; ++p) k.bary[p] = C[k.index][p];
+    } else if (k.kind == kVertexOfY) {
+      for (int p = 0; p < 3; ++p) k.bary[p] = p == k.index ? 1.0 : 0.0;
+    } else {
+      // Crossing of edge e with P_p: eq. (2) for the two other coordinates, with the decided
+      // signs (both >= 0 for a corner) enforced as guardrails, then scaled to sum to 1 (they do
+      // up to rounding; the scaling keeps p exactly 0 and the corner exactly on P_p).
+      const int e = k.index / 3, p = k.index % 3, i = kEdgeFrom[e], j = kEdgeTo[e];
+      const double den = C[i][p] - C[j][p];
+      double sum = 0.0;
+      for (int q = 0; q < 3; ++q) {
+        if (q == p) {
+          k.bary[q] = 0.0;
+          continue;
+        }
+        double v = (C[i][p] * C[j][q] - C[j][p] * C[i][q]) / den;
+        if (!(v >= 0.0)) {
+          if (stats) ++stats->guardrail_clamps;
+          v = 0.0;
+        }
+        k.bary[q] = v;
+        sum += v;
+      }
+      if (sum > 0.0)
+        for (int q = 0; q < 3; ++q) k.bary[q] /= sum;
+      k.weight_b = C[i][p] / den;  // in [0, 1]: C[i][p] and -C[j][p] have the same sign
+      if (stats) stats->corner_coordinates += 2;
+    }
+  }
+  r.sub_frame = std::abs(fr.det2_sub) < std::abs(fr.det2);
+  // The smaller triangle may be a needle whose plainly computed determinant has few correct
+  // digits; the area scales with it, so it is evaluated accurately.
+  r.frame_det = r.sub_frame ? orient2d_accurate((*fr.sub)[0], (*fr.sub)[1], (*fr.sub)[2]) : fr.det2;
+  // The fan's planar coordinates: (x, y) of Y, or the last two barycentric coordinates in X.
+  double xy[KernelResult::kMaxCorners][2] = {};
+  for (int k = 0; k < r.num_corners; ++k) {
+    const RawCorner& c = r.corners[r.order[k]];
+    if (!r.sub_frame) {
+      xy[k][0] = c.bary[1];
+      xy[k][1] = c.bary[2];
+      continue;
+    }
+    double b[3] = {0.0, 0.0, 0.0};
+    if (c.kind == kVertexOfX) {
+      b[c.index] = 1.0;
+    } else if (c.kind == kEdgeOfX) {
+      b[kEdgeFrom[c.index / 3]] = 1.0 - c.weight_b;
+      b[kEdgeTo[c.index / 3]] = c.weight_b;
+    } else {
+      const BarycentricMap map(*fr.sub, r.frame_det);
+      map.accurate((*fr.ref)[c.index], b);
+      // The vertex is in X by the signs; its coordinates are clamped to agree (guardrail).
+      for (double& v : b) v = v > 0.0 ? v : 0.0;
+      if (stats) stats->corner_coordinates += 3;
+    }
+    xy[k][0] = b[1];
+    xy[k][1] = b[2];
+  }
+  const double x0 = xy[0][0], y0 = xy[0][1];
+  double a2 = 0.0, fx = 0.0, fy = 0.0;
+  for (int k = 1; k + 1 < r.num_corners; ++k) {
+    const double ux = xy[k][0] - x0, uy = xy[k][1] - y0, vx = xy[k + 1][0] - x0, vy = xy[k + 1][1] - y0;
+    const double t2 = ux * vy - uy * vx;
+    a2 += t2;
+    if constexpr (kMoments) {
+      fx += t2 * (ux + vx);
+      fy += t2 * (uy + vy);
+    }
+  }
+  // The order is counter-clockwise in the frame of Y; the frame of X sees it reversed when
+  // the map between the two reverses orientation.
+  if (r.sub_frame && !fr.x_ccw) {
+    a2 = -a2;
+    fx = -fx;
+    fy = -fy;
+  }
+  // A convex polygon has a non-negative area; rounding in a degenerate (zero-area) one may not.
+  if (!(a2 > 0.0)) {
+    r.ref_area = 0.0;
+    r.ref_first[0] = r.ref_first[1] = 0.0;
+    return;
+  }
+  r.ref_area = 0.5 * a2;
+  if constexpr (kMoments) {
+    // Fan triangle (c0, c1, c2): area t2 / 2, centroid c0 + (u + v) / 3.
+    r.ref_first[0] = r.ref_area * x0 + fx / 6.0;
+    r.ref_first[1] = r.ref_area * y0 + fy / 6.0;
+  }
+}
+
+// Picks the reference (the better-conditioned triangle; ties broken by the coordinates, so that
+// (A, B) and (B, A) choose the same one) and computes X. False for flat or non-finite input.
+bool make_frame(const Triangle& A, const Triangle& B, Frame& fr, bool other_reference = false) {
+  double detA, detB;
+  const double qA = shape_quality(A, detA), qB = shape_quality(B, detB);
+  if (!(qA > 0.0) || !(qB > 0.0) || !(qA < INFINITY) || !(qB < INFINITY)) return false;
+  bool use_a = qA > qB;
+  if (qA == qB) {
+    const double* pa = &A[0].x;
+    const double* pb = &B[0].x;
+    use_a = std::lexicographical_compare(pa, pa + 6, pb, pb + 6);
+  }
+  use_a = use_a != other_reference;
+  fr.swapped = use_a;
+  fr.sub = use_a ? &B : &A;
+  fr.ref = use_a ? &A : &B;
+  fr.det2 = use_a ? detA : detB;
+  fr.det2_sub = use_a ? detB : detA;
+  fr.x_ccw = (detA > 0.0) == (detB > 0.0);
+  const BarycentricMap bary(*fr.ref, fr.det2);
+  double probe = 0.0;  // stays 0 unless a coordinate is infinite or NaN
+  for (int i = 0; i < 3; ++i) {
+    bary((*fr.sub)[i], fr.C[i]);
+    for (int p = 0; p < 3; ++p) probe += fr.C[i][p] * 0.0;
+  }
+  return probe == 0.0;
+}
+
+template <bool kMoments>
+bool run_kernel(const Frame& fr, KernelResult& res, TriIntersectionStats* stats) {
+  Kernel k(fr.C, fr.x_ccw, stats);
+  const bool ok = k.run(res);
+  if (!ok) {
+    res.num_corners = 0;
+    res.ref_area = 0.0;
+    res.ref_first[0] = res.ref_first[1] = 0.0;
+    return false;
+  }
+  if (res.num_corners == 0) {
+    res.ref_area = 0.0;
+    res.ref_first[0] = res.ref_first[1] = 0.0;
+    return true;
+  }
+  corner_coordinates<kMoments>(fr, res, stats);
+  return true;
+}
+
+// As in 3D: if the labels do not close (not expected: checked by the tests), the other
+// triangle is taken as the reference, which rounds differently; only if that fails too is the
+// result empty, and counted as an inconsistency.
+template <bool kMoments>
+bool solve(const Triangle& A, const Triangle& B, Frame& fr, KernelResult& res, TriIntersectionStats* stats) {
+  if (!make_frame(A, B, fr)) {
+    res.num_corners = 0;
+    res.ref_area = 0.0;
+    return false;
+  }
+  if (stats && fr.swapped) ++stats->reference_swaps;
+  bool ok = run_kernel<kMoments>(fr, res, stats);
+  if (!ok) ok = make_frame(A, B, fr, true) && run_kernel<kMoments>(fr, res, stats);
+  if (stats && (!ok || res.contradiction)) ++stats->inconsistencies;
+  return ok;
+}
+
+Moments2 original_moments(const Frame& fr, const KernelResult& res) {
+  Moments2 m;
+  const double scale = std::abs(res.frame_det);
+  m.area = res.ref_area * scale;
+  const Triangle& r = res.sub_frame ? *fr.sub : *fr.ref;
+  const Vec2 a1 = r[1] - r[0], a2 = r[2] - r[0];
+  m.first = m.area * r[0] + scale * (res.ref_first[0] * a1 + res.ref_first[1] * a2);
+  return m;
+}
+
+}  // namespace
+}  // namespace detail2
+
+// Fills a Polygon from the kernel's result: corners counter-clockwise in the original
+// coordinates (the kernel's order is counter-clockwise in the frame of Y, which a negatively
+// oriented reference reverses), exact input vertices where a corner is one, labels and
+// barycentric coordinates relative to the caller's argument order.
+struct PolygonBuilder {
+  static void fill(Polygon& P, const detail2::Frame& fr, const detail2::KernelResult& res) {
+    using detail2::RawCorner;
+    const int n = res.num_corners;
+    P.num_corners_ = n;
+    P.touched_b_ = 0;
+    if (n == 0) return;
+    const Triangle& r = *fr.ref;
+    const Triangle& s = *fr.sub;
+    const Vec2 a1 = r[1] - r[0], a2 = r[2] - r[0];
+    const bool reverse = fr.det2 < 0.0;
+    const Triangle& B = fr.swapped ? s : r;
+    for (int k = 0; k < n; ++k) {
+      const RawCorner& rc = res.corners[res.order[reverse ? n - 1 - k : k]];
+      PolygonCorner& out = P.corners_[static_cast<std::size_t>(k)];
+      if (rc.kind == detail2::kVertexOfX) out.point = s[rc.index];
+      else if (rc.kind == detail2::kVertexOfY) out.point = r[rc.index];
+      else out.point = r[0] + (rc.bary[1] * a1 + rc.bary[2] * a2);
+      int l0 = rc.in, l1 = rc.out;
+      if (fr.swapped) {
+        l0 = (l0 + 3) % 6;
+        l1 = (l1 + 3) % 6;
+      }
+      out.labels = {static_cast<std::uint8_t>(std::min(l0, l1)), static_cast<std::uint8_t>(std::max(l0, l1))};
+      if (!fr.swapped) {
+        for (int p = 0; p < 3; ++p) out.bary[static_cast<std::size_t>(p)] = rc.bary[p];
+        continue;
+      }
+      // The reference was A, so B is X: its coordinates of a vertex of X or of a crossing on
+      // an edge of X are exact unit vectors or the crossing's weights; only a vertex of A
+      // inside B needs a change of coordinates.
+      double b[3] = {0.0, 0.0, 0.0};
+      if (rc.kind == detail2::kVertexOfX) {
+        b[rc.index] = 1.0;
+      } else if (rc.kind == detail2::kEdgeOfX) {
+        const int e = rc.index / 3;
+        b[detail2::kEdgeFrom[e]] = 1.0 - rc.weight_b;
+        b[detail2::kEdgeTo[e]] = rc.weight_b;
+      } else {
+        const detail2::BarycentricMap map(B, orient2d(B[0], B[1], B[2]));
+        map(out.point, b);
+        double sum = 0.0;
+        for (double& v : b) {
+          v = v > 0.0 ? v : 0.0;  // the corner is in B by construction
+          sum += v;
+        }
+        for (double& v : b) v = sum > 0.0 ? v / sum : 1.0 / 3.0;
+      }
+      for (int p = 0; p < 3; ++p) out.bary[static_cast<std::size_t>(p)] = b[p];
+    }
+    // Sides: between consecutive corners, on the line both carry (the one corner k leaves by).
+    // A side on a line of B touches that edge; a side on an edge of A touches the edge of B
+    // whose coordinate is exactly zero at both of its ends (a shared or collinear edge).
+    for (int k = 0; k < n; ++k) {
+      const PolygonCorner& c0 = P.corners_[static_cast<std::size_t>(k)];
+      const PolygonCorner& c1 = P.corners_[static_cast<std::size_t>((k + 1) % n)];
+      for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b) {
+          const int l = c0.labels[static_cast<std::size_t>(a)];
+          if (l != c1.labels[static_cast<std::size_t>(b)]) continue;
+          if (l >= 3) {
+            P.touched_b_ |= 1u << (l - 3);
+            continue;
+          }
+          for (int p = 0; p < 3; ++p)
+            if (c0.bary[static_cast<std::size_t>(p)] == 0.0 && c1.bary[static_cast<std::size_t>(p)] == 0.0)
+              P.touched_b_ |= 1u << p;
+        }
+    }
+    P.moments_ = detail2::original_moments(fr, res);
+  }
+};
+
+Polygon intersect(const Triangle& A, const Triangle& B, TriIntersectionStats* stats) {
+  Polygon P;
+  if (stats) ++stats->calls;
+  detail2::Frame fr;
+  detail2::KernelResult res;
+  if (detail2::solve<true>(A, B, fr, res, stats)) PolygonBuilder::fill(P, fr, res);
+  return P;
+}
+
+double intersection_area(const Triangle& A, const Triangle& B) {
+  detail2::Frame fr;
+  detail2::KernelResult res;
+  if (!detail2::solve<false>(A, B, fr, res, nullptr)) return 0.0;
+  return res.ref_area * std::abs(res.frame_det);
+}
+
+Moments2 intersection_moments(const Triangle& A, const Triangle& B) {
+  detail2::Frame fr;
+  detail2::KernelResult res;
+  if (!detail2::solve<true>(A, B, fr, res, nullptr)) return {};
+  return detail2::original_moments(fr, res);
+}
+
+}  // namespace tetia
