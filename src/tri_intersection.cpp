@@ -259,9 +259,9 @@ bool Kernel::run(KernelResult& out) {
 
 // twice the signed area of (a, b, c) to nearly full relative accuracy, even for a needle whose
 // vertices are almost collinear (there the plain formula loses all digits to the rounding of
-// the differences). The six products of the expanded determinant, bx cy - bx ay - ax cy - by cx
-// + by ax + ay cx, are formed exactly (Dekker's product: no fused multiply-add, which this
-// project keeps off) and summed in double-double. Used only where a sliver's own area scales the
+// the differences). The differences and the two main products are formed exactly (Knuth's
+// two-difference, Dekker's product: no fused multiply-add, which this project keeps off) and
+// summed in double-double. Used only where a sliver's own area scales the
 // result (see corner_coordinates); the sign decisions never need it.
 struct DoubleDouble {
   double hi = 0.0, lo = 0.0;
@@ -291,13 +291,23 @@ struct DoubleDouble {
 };
 
 double orient2d_accurate(Vec2 a, Vec2 b, Vec2 c) {
+  // The differences exactly, as hi + lo (Knuth's two-difference), so that the result does not
+  // depend on where the triangle is (coordinates of 1e8 with a triangle of size 1e-3 would
+  // otherwise leave the products' rounding larger than the determinant).
+  const auto diff = [](double x, double y, double& lo) {
+    const double d = x - y;
+    const double bv = x - d;
+    lo = (x - (d + bv)) + (bv - y);
+    return d;
+  };
+  double l1x, l1y, l2x, l2y;
+  const double h1x = diff(b.x, a.x, l1x), h1y = diff(b.y, a.y, l1y);
+  const double h2x = diff(c.x, a.x, l2x), h2y = diff(c.y, a.y, l2y);
   DoubleDouble d;
-  d.add_product(b.x, c.y);
-  d.add_product(-b.x, a.y);
-  d.add_product(-a.x, c.y);
-  d.add_product(-b.y, c.x);
-  d.add_product(b.y, a.x);
-  d.add_product(a.y, c.x);
+  d.add_product(h1x, h2y);
+  d.add_product(-h1y, h2x);
+  // The cross terms with one low part are eps times smaller; the low-low terms eps^2.
+  d.lo += (h1x * l2y + l1x * h2y) - (h1y * l2x + l1y * h2x);
   return d.value();
 }
 
