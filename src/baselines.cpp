@@ -1,4 +1,5 @@
-// baselines.cpp -- the two floating-point methods the paper compares against (Section 5.2).
+// baselines.cpp -- the two floating-point methods the paper compares against (Section 5.2), for
+// tetrahedra and (at the end) for triangles.
 //
 // Neither is robust, on purpose: they are the methods as usually written. What they do promise
 // is to terminate, not to touch memory out of bounds, and to return a finite value >= 0 for any
@@ -498,6 +499,173 @@ double pang_volume(const Tet& U, const Tet& V) {
   collect(V, U, orient_u, pts, n);
   const double v = hull_volume(pts, n);
   return std::isfinite(v) && v > 0.0 ? v : 0.0;
+}
+
+// =============================================================================================
+// 2D: triangles.
+// =============================================================================================
+
+namespace {
+
+bool all_finite(const Triangle& t) {
+  for (const Vec2& p : t) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) return false;
+  }
+  return true;
+}
+
+double cross2(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
+
+// Capacity of a clipped polygon. A clip outputs each kept corner and one point per crossing
+// edge, so at most twice the corners it gets: 3, 6, 12, 24 after three clips, whatever the
+// rounding. (In exact arithmetic a convex polygon gains at most one corner per clip: 6.) With
+// this bound no write can overflow, so no check is needed in the loop.
+constexpr int kMaxClipCorners = 24;
+
+// Twice the signed area of poly[0..n), fan from corner 0 (not from the origin: a small polygon
+// far from the origin would otherwise be the difference of large, nearly equal terms).
+double shoelace2(const Vec2* poly, int n) {
+  double sum = 0.0;
+  const Vec2 o = poly[0];
+  Vec2 prev = poly[1] - o;
+  for (int i = 2; i < n; ++i) {
+    const Vec2 cur = poly[i] - o;
+    sum += cross2(prev, cur);
+    prev = cur;
+  }
+  return sum;
+}
+
+constexpr int kMaxPang2Points = 3 + 3 + 9;
+
+// Closed inside test of p in t, tolerance free: p is inside when no edge has it strictly on the
+// side away from the opposite vertex. `orientation` is orient2d of t.
+bool inside(Vec2 p, const Triangle& t, double orientation) {
+  for (int k = 0; k < 3; ++k) {
+    const double o = orient2d(t[static_cast<std::size_t>((k + 1) % 3)],
+                              t[static_cast<std::size_t>((k + 2) % 3)], p);
+    if (orientation > 0.0 ? o < 0.0 : o > 0.0) return false;
+  }
+  return true;
+}
+
+// Intersection point of the closed segments pq and ab, if they cross, into x. Collinear
+// overlapping segments are reported as not intersecting (their endpoints come from the inside
+// tests, or not at all: this method makes no promise there).
+bool segment_segment(Vec2 p, Vec2 q, Vec2 a, Vec2 b, Vec2& x) {
+  const double sp = orient2d(a, b, p);
+  const double sq = orient2d(a, b, q);
+  if ((sp > 0.0 && sq > 0.0) || (sp < 0.0 && sq < 0.0)) return false;
+  if (sp == 0.0 && sq == 0.0) return false;
+  const double sa = orient2d(p, q, a);
+  const double sb = orient2d(p, q, b);
+  if ((sa > 0.0 && sb > 0.0) || (sa < 0.0 && sb < 0.0)) return false;
+  const double t = sp / (sp - sq);
+  x = p + t * (q - p);
+  return true;
+}
+
+// Area of the convex hull of pts[0..n) (Andrew's monotone chain; collinear and repeated points
+// are dropped by the strict turn test).
+double hull_area(std::array<Vec2, kMaxPang2Points>& pts, int n) {
+  if (n < 3) return 0.0;
+  std::sort(pts.begin(), pts.begin() + n,
+            [](Vec2 a, Vec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+  std::array<Vec2, 2 * kMaxPang2Points> hull;
+  int h = 0;
+  for (int i = 0; i < n; ++i) {  // lower hull
+    while (h >= 2 && orient2d(hull[h - 2], hull[h - 1], pts[i]) <= 0.0) --h;
+    hull[h++] = pts[i];
+  }
+  const int lower = h + 1;
+  for (int i = n - 2; i >= 0; --i) {  // upper hull
+    while (h >= lower && orient2d(hull[h - 2], hull[h - 1], pts[i]) <= 0.0) --h;
+    hull[h++] = pts[i];
+  }
+  --h;  // the last point is the first again
+  if (h < 3) return 0.0;
+  return 0.5 * std::abs(shoelace2(hull.data(), h));
+}
+
+}  // namespace
+
+// Contract: the area of A ∩ B by clipping A with B's three lines in doubles; >= 0 and finite,
+// 0 for non-finite input and for an A or B that is flat as computed.
+double clip_area(const Triangle& A, const Triangle& B) {
+  if (!all_finite(A) || !all_finite(B)) return 0.0;
+  const double oa = orient2d(A[0], A[1], A[2]);
+  const double ob = orient2d(B[0], B[1], B[2]);
+  if (!(oa != 0.0) || !(ob != 0.0) || !std::isfinite(oa) || !std::isfinite(ob)) return 0.0;
+
+  std::array<Vec2, kMaxClipCorners> buf[2];
+  Vec2* in = buf[0].data();
+  Vec2* out = buf[1].data();
+  in[0] = A[0];
+  in[1] = A[1];
+  in[2] = A[2];
+  int n = 3;
+  std::array<double, kMaxClipCorners> f;
+  for (int k = 0; k < 3; ++k) {
+    // Line k of B (opposite vertex k), from its own first vertex b1; the edge vector is turned
+    // so that B[k]'s side is positive for either orientation of B.
+    const Vec2 b1 = B[static_cast<std::size_t>((k + 1) % 3)];
+    const Vec2 b2 = B[static_cast<std::size_t>((k + 2) % 3)];
+    const Vec2 e = ob > 0.0 ? b2 - b1 : b1 - b2;
+    bool any_in = false, any_out = false;
+    for (int i = 0; i < n; ++i) {
+      const double d = e.x * (in[i].y - b1.y) - e.y * (in[i].x - b1.x);
+      f[static_cast<std::size_t>(i)] = d;
+      any_in = any_in || d > 0.0;
+      any_out = any_out || d < 0.0;
+    }
+    if (!any_out) continue;       // nothing cut: keep the polygon as it is
+    if (!any_in) return 0.0;      // at most a segment or a point on the line is left
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+      const int j = i + 1 == n ? 0 : i + 1;
+      const double fi = f[static_cast<std::size_t>(i)], fj = f[static_cast<std::size_t>(j)];
+      if (fi >= 0.0) out[m++] = in[i];
+      if ((fi > 0.0 && fj < 0.0) || (fi < 0.0 && fj > 0.0)) {
+        const double t = fi / (fi - fj);
+        out[m++] = in[i] + t * (in[j] - in[i]);
+      }
+    }
+    std::swap(in, out);
+    n = m;
+  }
+  if (n < 3) return 0.0;
+  const double a = 0.5 * std::abs(shoelace2(in, n));
+  // Huge finite coordinates can overflow in the products (inf, or inf - inf = NaN).
+  return std::isfinite(a) ? a : 0.0;
+}
+
+// Contract: the area of the convex hull of the independently computed candidate points, in
+// doubles; >= 0 and finite, 0 for non-finite or flat input and for fewer than 3 points.
+double pang_area(const Triangle& A, const Triangle& B) {
+  if (!all_finite(A) || !all_finite(B)) return 0.0;
+  const double oa = orient2d(A[0], A[1], A[2]);
+  const double ob = orient2d(B[0], B[1], B[2]);
+  if (!(oa != 0.0) || !(ob != 0.0) || !std::isfinite(oa) || !std::isfinite(ob)) return 0.0;
+  std::array<Vec2, kMaxPang2Points> pts;
+  int n = 0;
+  for (const Vec2& p : A) {
+    if (inside(p, B, ob)) pts[static_cast<std::size_t>(n++)] = p;
+  }
+  for (const Vec2& p : B) {
+    if (inside(p, A, oa)) pts[static_cast<std::size_t>(n++)] = p;
+  }
+  for (int i = 0; i < 3; ++i) {
+    const Vec2 p = A[static_cast<std::size_t>((i + 1) % 3)], q = A[static_cast<std::size_t>((i + 2) % 3)];
+    for (int j = 0; j < 3; ++j) {
+      Vec2 x;
+      if (segment_segment(p, q, B[static_cast<std::size_t>((j + 1) % 3)],
+                          B[static_cast<std::size_t>((j + 2) % 3)], x)) {
+        pts[static_cast<std::size_t>(n++)] = x;
+      }
+    }
+  }
+  const double a = hull_area(pts, n);
+  return std::isfinite(a) && a > 0.0 ? a : 0.0;
 }
 
 }  // namespace tetia::baselines

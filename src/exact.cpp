@@ -1,4 +1,5 @@
-// exact.cpp -- the exact reference: intersection volume of two tetrahedra in rational arithmetic.
+// exact.cpp -- the exact reference: intersection volume of two tetrahedra (and, at the end, the
+// intersection area of two triangles) in rational arithmetic.
 //
 // Method (deliberately unrelated to the kernel's logic, so that it can judge it):
 //  1. Every double is m * 2^e with an integer m, so after multiplying all 24 coordinates by one
@@ -28,6 +29,7 @@
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
+#include <vector>
 
 namespace tetia::exact {
 namespace {
@@ -416,6 +418,114 @@ mpq_class intersection_volume(const Tet& U, const Tet& V) {
 // subnormals included. Not mpq_class::get_d, which truncates towards zero.
 double intersection_volume_double(const Tet& U, const Tet& V) {
   return round_to_double(intersection_volume(U, V));
+}
+
+// =============================================================================================
+// 2D: the intersection area of two triangles.
+//
+// Method (again unrelated to the kernel's: no barycentric coordinates, no labels, no pairing of
+// signs): Sutherland-Hodgman clipping of A by the three closed half-planes of B, every number a
+// rational. Clipping a convex polygon by a half-plane in exact arithmetic yields exactly the
+// intersection (a vertex on the line is kept once and creates no crossing point; a crossing
+// point P + t (Q - P) with t = f(P) / (f(P) - f(Q)) lies exactly on the line), so after three
+// clips the polygon is exactly A ∩ B, possibly with repeated or collinear corners, which the
+// shoelace formula does not mind. A flat intersection (touching along an edge or at a point)
+// has shoelace area exactly 0. Cost: a few dozen rational operations (each with a gcd), about
+// 30 us per random pair.
+// =============================================================================================
+
+namespace {
+
+struct QPoint {
+  mpq_class x, y;
+};
+
+// det[b - a, p - a]: positive when (a, b, p) is counter-clockwise.
+mpq_class orient(const QPoint& a, const QPoint& b, const QPoint& p) {
+  return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+}
+
+void check_finite(const Triangle& t) {
+  for (const Vec2& p : t) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
+      throw std::domain_error("tetia::exact: non-finite coordinate");
+    }
+  }
+}
+
+// Twice the signed area of a polygon (shoelace, relative to its first corner).
+mpq_class shoelace(const std::vector<QPoint>& poly) {
+  mpq_class twice = 0;
+  for (std::size_t i = 1; i + 1 < poly.size(); ++i) {
+    twice += orient(poly[0], poly[i], poly[i + 1]);
+  }
+  return twice;
+}
+
+}  // namespace
+
+// Contract: |det[t1 - t0, t2 - t0]| / 2, exactly. Throws std::domain_error on a non-finite
+// coordinate.
+mpq_class area(const Triangle& t) {
+  check_finite(t);
+  const QPoint a{t[0].x, t[0].y}, b{t[1].x, t[1].y}, c{t[2].x, t[2].y};
+  return abs(orient(a, b, c)) / 2;
+}
+
+// Contract: the exact area of A ∩ B for closed A, B in any vertex order; 0 when they touch or
+// are disjoint or either is flat. Throws std::domain_error on a non-finite coordinate.
+mpq_class intersection_area(const Triangle& A, const Triangle& B) {
+  check_finite(A);
+  check_finite(B);
+  // Translating both by A's vertex 0 changes no area and keeps the numbers smaller.
+  const mpq_class ox = A[0].x, oy = A[0].y;
+  std::vector<QPoint> poly(3), next;
+  poly.reserve(8);
+  next.reserve(8);
+  std::array<QPoint, 3> b;
+  for (int i = 0; i < 3; ++i) {
+    poly[static_cast<std::size_t>(i)] = {mpq_class(A[static_cast<std::size_t>(i)].x) - ox,
+                                         mpq_class(A[static_cast<std::size_t>(i)].y) - oy};
+    b[static_cast<std::size_t>(i)] = {mpq_class(B[static_cast<std::size_t>(i)].x) - ox,
+                                      mpq_class(B[static_cast<std::size_t>(i)].y) - oy};
+  }
+  const int sign_b = sgn(orient(b[0], b[1], b[2]));
+  if (sign_b == 0 || sgn(orient(poly[0], poly[1], poly[2])) == 0) return 0;
+
+  // A convex polygon gains at most one corner per clip (at most two strict crossings, and then
+  // at least one corner is dropped): at most 6, but nothing here relies on it.
+  std::vector<mpq_class> f;
+  for (int k = 0; k < 3 && poly.size() >= 3; ++k) {
+    // Edge k of B (opposite vertex k); the kept side is the one holding B[k], where
+    // sign_b * orient(b1, b2, .) > 0 (orient(b1, b2, b0) = orient(b0, b1, b2): a rotation).
+    const QPoint& b1 = b[static_cast<std::size_t>((k + 1) % 3)];
+    const QPoint& b2 = b[static_cast<std::size_t>((k + 2) % 3)];
+    const std::size_t n = poly.size();
+    f.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      f[i] = orient(b1, b2, poly[i]);
+      if (sign_b < 0) f[i] = -f[i];
+    }
+    next.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t j = i + 1 == n ? 0 : i + 1;
+      const int si = sgn(f[i]), sj = sgn(f[j]);
+      if (si >= 0) next.push_back(poly[i]);
+      if (si * sj < 0) {  // strictly on opposite sides: one exact crossing point
+        const mpq_class t = f[i] / (f[i] - f[j]);
+        next.push_back({poly[i].x + t * (poly[j].x - poly[i].x),
+                        poly[i].y + t * (poly[j].y - poly[i].y)});
+      }
+    }
+    poly.swap(next);
+  }
+  if (poly.size() < 3) return 0;
+  return abs(shoelace(poly)) / 2;
+}
+
+// Contract: intersection_area(A, B) correctly rounded to the nearest double (ties to even).
+double intersection_area_double(const Triangle& A, const Triangle& B) {
+  return round_to_double(intersection_area(A, B));
 }
 
 }  // namespace tetia::exact
