@@ -38,6 +38,8 @@
 #include <utility>
 #include <vector>
 
+#include "dimension.hpp"
+
 #if defined(__SANITIZE_ADDRESS__)
 #define TETIA_ASAN 1
 #elif defined(__has_feature)
@@ -176,7 +178,7 @@ class GmshSession {
 };
 
 // ---------------------------------------------------------------------------------------------
-// From Gmsh's model to a TetMesh
+// From Gmsh's model to a TetMesh or a TriMesh
 
 // Ranks positive tags: find(tag) is the number of smaller (kept) tags. A vector when the tags
 // are dense (the usual case: 1..N), a hash map otherwise.
@@ -246,37 +248,50 @@ class TagIndex {
   std::unordered_map<std::size_t, std::int32_t> sparse_;
 };
 
+template <class Mesh>
 struct Extracted {
-  TetMesh mesh;                       // not finalized
-  TagIndex node_index, cell_index;    // Gmsh tag -> index in mesh.nodes / mesh.cells
-  std::size_t ignored = 0;            // elements of other types, and repeated tetrahedra
-  std::size_t higher_order_tets = 0;  // elements of other types that are tetrahedra of order > 1
+  Mesh mesh;                        // not finalized
+  TagIndex node_index, cell_index;  // Gmsh tag -> index in mesh.nodes / mesh.cells
+  std::size_t ignored = 0;          // elements of other types, and repeated cells
+  std::size_t higher_order = 0;     // elements of other types that are cells of order > 1
 };
 
-constexpr int kTet4 = 4;  // Gmsh's element type of the 4-node tetrahedron
+// Gmsh's element types of the cells read: the 4-node tetrahedron and the 3-node triangle, and
+// the prefix of Gmsh's names of their higher-order variants (counted for the error message).
+template <class Mesh>
+struct GmshCell;
+template <>
+struct GmshCell<TetMesh> {
+  static constexpr int type = 4;
+  static constexpr const char* family = "Tetrahedron";
+};
+template <>
+struct GmshCell<TriMesh> {
+  static constexpr int type = 2;
+  static constexpr const char* family = "Triangle";
+};
 
-// Drops the tetrahedra whose node set is that of an earlier one, and returns how many. A .msh
-// 2.2 file lists a tetrahedron once per physical group it belongs to, under different tags;
-// kept twice, it would make its faces look shared by three or four cells.
-std::size_t drop_repeated_cells(std::vector<std::array<std::int32_t, 4>>& cells, std::vector<std::size_t>& tags) {
+// Drops the cells whose node set is that of an earlier one, and returns how many. A .msh
+// 2.2 file lists a cell once per physical group it belongs to, under different tags;
+// kept twice, it would make its facets look shared by three or four cells.
+template <std::size_t N>
+std::size_t drop_repeated_cells(std::vector<std::array<std::int32_t, N>>& cells, std::vector<std::size_t>& tags) {
   struct Key {
-    std::uint64_t lo, hi;  // the sorted node indices, two per word
+    std::array<std::int32_t, N> nodes;  // sorted
     std::size_t cell;
   };
   std::vector<Key> keys(cells.size());
   for (std::size_t c = 0; c < cells.size(); ++c) {
-    auto v = cells[c];
-    std::sort(v.begin(), v.end());
-    const auto u = [&](std::size_t j) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(v[j])); };
-    keys[c] = {u(0) << 32 | u(1), u(2) << 32 | u(3), c};
+    keys[c] = {cells[c], c};
+    std::sort(keys[c].nodes.begin(), keys[c].nodes.end());
   }
   std::sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
-    return a.lo != b.lo ? a.lo < b.lo : a.hi != b.hi ? a.hi < b.hi : a.cell < b.cell;
+    return a.nodes != b.nodes ? a.nodes < b.nodes : a.cell < b.cell;
   });
   std::vector<char> drop(cells.size(), 0);
   std::size_t dropped = 0;
   for (std::size_t k = 1; k < keys.size(); ++k)
-    if (keys[k].lo == keys[k - 1].lo && keys[k].hi == keys[k - 1].hi) {
+    if (keys[k].nodes == keys[k - 1].nodes) {
       drop[keys[k].cell] = 1;  // the later of equal keys: the first cell is kept
       ++dropped;
     }
@@ -292,21 +307,52 @@ std::size_t drop_repeated_cells(std::vector<std::array<std::int32_t, 4>>& cells,
   return dropped;
 }
 
-// The current model's nodes (all of them, by increasing tag) and 4-node tetrahedra (of every
-// entity, by increasing tag, each node set once). Contract: inside a session, after a mesh
-// was loaded or generated.
-Extracted extract(GmshSession& s) {
-  Extracted ex;
+// A 2D mesh must lie in a plane z = const (Gmsh writes 2D meshes with z = 0): the z of every
+// node of a triangle must agree with the first to 1e-12 of the size of the mesh (its x, y
+// extent and |z|), which leaves room for coordinates written with 16 digits and nothing else.
+void check_planar(const std::string& name, const std::vector<Vec2>& nodes, const std::vector<double>& z,
+                  const std::vector<std::array<std::int32_t, 3>>& cells) {
+  if (cells.empty()) return;
+  const double z0 = z[static_cast<std::size_t>(cells[0][0])];
+  double zlo = z0, zhi = z0, size = std::abs(z0);
+  Vec2 lo = nodes[static_cast<std::size_t>(cells[0][0])], hi = lo;
+  for (const auto& c : cells)
+    for (const auto v : c) {
+      const auto i = static_cast<std::size_t>(v);
+      zlo = std::min(zlo, z[i]);
+      zhi = std::max(zhi, z[i]);
+      lo = {std::min(lo.x, nodes[i].x), std::min(lo.y, nodes[i].y)};
+      hi = {std::max(hi.x, nodes[i].x), std::max(hi.y, nodes[i].y)};
+    }
+  size = std::max({size, std::abs(zlo), std::abs(zhi), hi.x - lo.x, hi.y - lo.y});
+  if (zhi - zlo > 1e-12 * size) {
+    char range[96];
+    std::snprintf(range, sizeof range, "z from %.17g to %.17g", zlo, zhi);
+    fail(name, std::string("the triangles do not lie in a plane z = const (") + range +
+                   "); 2D meshes must be in the xy plane");
+  }
+}
+
+// The current model's nodes (all of them, by increasing tag) and first-order cells of the mesh
+// type (every entity, by increasing tag, each node set once). For triangles the nodes' z is
+// dropped after checking that the triangles lie in a plane z = const. Contract: inside a
+// session, after a mesh was loaded or generated.
+template <class Mesh>
+Extracted<Mesh> extract(GmshSession& s) {
+  using Dm = detail::Dim<Mesh>;
+  constexpr std::size_t nv = Dm::nv;
+  constexpr int kType = GmshCell<Mesh>::type;
+  Extracted<Mesh> ex;
   std::vector<std::size_t> node_tags, elem_tags, elem_nodes;
   std::vector<double> xyz, unused_param;
   std::vector<int> types;
   s.run("reading the mesh", [&] {
     gmsh::model::mesh::getNodes(node_tags, xyz, unused_param, -1, -1, false, false);
     gmsh::model::mesh::getElementTypes(types, -1, -1);
-    if (std::find(types.begin(), types.end(), kTet4) != types.end())
-      gmsh::model::mesh::getElementsByType(kTet4, elem_tags, elem_nodes, -1);
+    if (std::find(types.begin(), types.end(), kType) != types.end())
+      gmsh::model::mesh::getElementsByType(kType, elem_tags, elem_nodes, -1);
   });
-  if (xyz.size() != 3 * node_tags.size() || elem_nodes.size() != 4 * elem_tags.size())
+  if (xyz.size() != 3 * node_tags.size() || elem_nodes.size() != nv * elem_tags.size())
     fail(s.name(), "inconsistent data from Gmsh");
 
   std::vector<std::size_t> order;
@@ -315,17 +361,20 @@ Extracted extract(GmshSession& s) {
   });
   auto& nodes = ex.mesh.nodes;
   nodes.resize(order.size());
+  std::vector<double> z;  // 2D: the dropped coordinate, checked below
+  if constexpr (Dm::d == 2) z.resize(order.size());
   for (std::size_t k = 0; k < order.size(); ++k) {
     const double* p = &xyz[3 * order[k]];
-    nodes[k] = {p[0], p[1], p[2]};
+    nodes[k] = Dm::point(p);
+    if constexpr (Dm::d == 2) z[k] = p[2];
   }
 
   {
     TagIndex by_tag;  // only for the order; cell_index is built on the cells kept
     by_tag.build(elem_tags, order, s.name(), "element", [&](std::size_t i, std::size_t j) {
-      std::array<std::size_t, 4> a, b;
-      std::copy_n(&elem_nodes[4 * i], 4, a.begin());
-      std::copy_n(&elem_nodes[4 * j], 4, b.begin());
+      std::array<std::size_t, nv> a, b;
+      std::copy_n(&elem_nodes[nv * i], nv, a.begin());
+      std::copy_n(&elem_nodes[nv * j], nv, b.begin());
       std::sort(a.begin(), a.end());
       std::sort(b.begin(), b.end());
       return a == b;
@@ -337,8 +386,8 @@ Extracted extract(GmshSession& s) {
   cells.resize(order.size());
   for (std::size_t c = 0; c < order.size(); ++c) {
     cell_tags[c] = elem_tags[order[c]];
-    const std::size_t* en = &elem_nodes[4 * order[c]];
-    for (std::size_t j = 0; j < 4; ++j) {
+    const std::size_t* en = &elem_nodes[nv * order[c]];
+    for (std::size_t j = 0; j < nv; ++j) {
       const std::int32_t idx = ex.node_index.find(en[j]);
       if (idx < 0)
         fail(s.name(), "element " + std::to_string(cell_tags[c]) + ": unknown node tag " + std::to_string(en[j]));
@@ -347,10 +396,11 @@ Extracted extract(GmshSession& s) {
   }
   ex.ignored += drop_repeated_cells(cells, cell_tags);
   ex.cell_index.build(cell_tags, order, s.name(), "element", [](std::size_t, std::size_t) { return false; });
+  if constexpr (Dm::d == 2) check_planar(s.name(), nodes, z, cells);
 
   // Count what is ignored without fetching its connectivity.
   for (const int type : types) {
-    if (type == kTet4) continue;
+    if (type == kType) continue;
     std::vector<std::size_t> tags, unused_nodes;
     std::string elem_name;
     int dim = 0, elem_order = 0, num_nodes = 0, num_primary = 0;
@@ -360,9 +410,28 @@ Extracted extract(GmshSession& s) {
       gmsh::model::mesh::getElementProperties(type, elem_name, dim, elem_order, num_nodes, unused_coord, num_primary);
     });
     ex.ignored += tags.size();
-    if (dim == 3 && elem_name.rfind("Tetrahedron", 0) == 0) ex.higher_order_tets += tags.size();
+    if (dim == Dm::d && elem_name.rfind(GmshCell<Mesh>::family, 0) == 0) ex.higher_order += tags.size();
   }
   return ex;
+}
+
+// The dimension of the loaded model's mesh: 3 with tetrahedra (of any order), else 2 with
+// triangles (of any order), else 0.
+int loaded_dimension(GmshSession& s) {
+  std::vector<int> types;
+  s.run("reading the mesh", [&] { gmsh::model::mesh::getElementTypes(types, -1, -1); });
+  int dim = 0;
+  for (const int type : types) {
+    std::string elem_name;
+    int edim = 0, elem_order = 0, num_nodes = 0, num_primary = 0;
+    std::vector<double> unused_coord;
+    s.run("reading the mesh", [&] {
+      gmsh::model::mesh::getElementProperties(type, elem_name, edim, elem_order, num_nodes, unused_coord, num_primary);
+    });
+    if (elem_name.rfind("Tetrahedron", 0) == 0) dim = 3;
+    else if (elem_name.rfind("Triangle", 0) == 0 && dim < 2) dim = 2;
+  }
+  return dim;
 }
 
 // A view's data: model-based NodeData or ElementData (other views are skipped).
@@ -439,11 +508,13 @@ void load(GmshSession& s, const fs::path& file) {
   s.run("cannot read", [&] { gmsh::merge(file.string()); });
 }
 
-std::string no_tets_message(const Extracted& ex) {
-  std::string m = "no tetrahedra";
-  if (ex.higher_order_tets > 0)
-    m += " of first order (" + std::to_string(ex.higher_order_tets) +
-         " higher-order tetrahedra are not supported; convert with Gmsh: -order 1)";
+template <class Mesh>
+std::string no_cells_message(const Extracted<Mesh>& ex) {
+  const std::string cells = detail::Dim<Mesh>::cells_word;
+  std::string m = "no " + cells;
+  if (ex.higher_order > 0)
+    m += " of first order (" + std::to_string(ex.higher_order) + " higher-order " + cells +
+         " are not supported; convert with Gmsh: -order 1)";
   else
     m += " (" + std::to_string(ex.ignored) + " other elements ignored)";
   return m;
@@ -537,8 +608,9 @@ void check_fields(const std::string& name, const std::vector<Field>& fields, std
   }
 }
 
-void check_mesh(const std::string& name, const TetMesh& mesh) {
-  if (mesh.cells.empty()) fail(name, "no tetrahedra to write");
+template <class Mesh>
+void check_mesh(const std::string& name, const Mesh& mesh) {
+  if (mesh.cells.empty()) fail(name, std::string("no ") + detail::Dim<Mesh>::cells_word + " to write");
   const auto n = static_cast<std::int64_t>(mesh.nodes.size());
   for (std::size_t c = 0; c < mesh.cells.size(); ++c)
     for (const auto idx : mesh.cells[c])
@@ -571,17 +643,20 @@ void write_msh_data(TextOut& out, const char* section, const Field& f) {
 // ---------------------------------------------------------------------------------------------
 // Generation
 
-// Meshes the OCC shape `add_shape` creates at size h and extracts it. `volume` (the exact one)
-// only bounds the work: a mesh whose cells could not be indexed with 32 bits is refused before
-// Gmsh spends hours on it.
-template <class AddShape>
-TetMesh generate(const std::string& name, double h, double volume, AddShape&& add_shape) {
+// Meshes the OCC shape `add_shape` creates at size h and extracts it. `measure` (the exact
+// volume or area) only bounds the work: a mesh whose cells could not be indexed with 32 bits is
+// refused before Gmsh spends hours on it.
+template <class Mesh, class AddShape>
+Mesh generate(const std::string& name, double h, double measure, AddShape&& add_shape) {
+  constexpr int dim = detail::Dim<Mesh>::d;
   if (!(h > 0.0) || !std::isfinite(h))
     throw std::invalid_argument("tetia: " + name + ": element size must be positive");
-  // A regular tetrahedron of edge h has volume h^3 / (6 sqrt 2) ~ h^3 / 8.5.
-  if (volume / (h * h * h / 8.5) > 1e9)
+  // A regular tetrahedron of edge h has volume h^3 / (6 sqrt 2) ~ h^3 / 8.5; an equilateral
+  // triangle has area h^2 sqrt(3) / 4 ~ h^2 / 2.3.
+  const double cell = dim == 3 ? h * h * h / 8.5 : h * h / 2.3;
+  if (measure / cell > 1e9)
     throw std::invalid_argument("tetia: " + name + ": element size too small (over 10^9 cells)");
-  Extracted ex;
+  Extracted<Mesh> ex;
   {
     GmshSession s(name);
     s.run("meshing", [&] {
@@ -600,38 +675,36 @@ TetMesh generate(const std::string& name, double h, double volume, AddShape&& ad
       gmsh::option::setNumber("Mesh.RandomSeed", 1);
       gmsh::option::setNumber("Mesh.ElementOrder", 1);
       gmsh::option::setNumber("Mesh.Optimize", 1);
-      gmsh::model::mesh::generate(3);
+      gmsh::model::mesh::generate(dim);
     });
-    ex = extract(s);
+    ex = extract<Mesh>(s);
   }
-  if (ex.mesh.cells.empty()) fail(name, "Gmsh produced no tetrahedra");
+  if (ex.mesh.cells.empty()) fail(name, std::string("Gmsh produced no ") + detail::Dim<Mesh>::cells_word);
   finalize(ex.mesh, name);
   return std::move(ex.mesh);
 }
 
-}  // namespace
-
-// ---------------------------------------------------------------------------------------------
-
-// Checks the file, opens it in a Gmsh session and extracts its tetrahedra; with `views`, also
-// the data it carries (with their values when `values`).
-static Extracted open_and_extract(const std::filesystem::path& file, const std::string& name,
-                                  std::vector<ViewData>* views, bool values) {
+// Checks the file, opens it in a Gmsh session and extracts its cells of the mesh type; with
+// `views`, also the data it carries (with their values when `values`).
+template <class Mesh>
+Extracted<Mesh> open_and_extract(const std::filesystem::path& file, const std::string& name,
+                                 std::vector<ViewData>* views, bool values) {
   check_mesh_file(file, name);
   GmshSession s(name);
   load(s, file);
-  Extracted ex = extract(s);
+  Extracted<Mesh> ex = extract<Mesh>(s);
   if (views != nullptr) *views = loaded_views(s, values);
   return ex;
 }
 
-// Nodes by increasing tag (all of the file's nodes, used or not), 4-node tetrahedra of every
+// Nodes by increasing tag (all of the file's nodes, used or not), first-order cells of every
 // entity and physical group by increasing tag, each node set once; then finalize(mesh, FILE).
-TetMesh read_mesh(const std::filesystem::path& file, MeshReadInfo* info) {
+template <class Mesh>
+Mesh read(const std::filesystem::path& file, MeshReadInfo* info) {
   const std::string name = file.string();
   std::vector<ViewData> views;
-  Extracted ex = open_and_extract(file, name, info != nullptr ? &views : nullptr, false);
-  if (ex.mesh.cells.empty()) fail(name, no_tets_message(ex));
+  Extracted<Mesh> ex = open_and_extract<Mesh>(file, name, info != nullptr ? &views : nullptr, false);
+  if (ex.mesh.cells.empty()) fail(name, no_cells_message(ex));
   finalize(ex.mesh, name);
   if (info != nullptr) {
     *info = MeshReadInfo{};
@@ -641,14 +714,13 @@ TetMesh read_mesh(const std::filesystem::path& file, MeshReadInfo* info) {
   return std::move(ex.mesh);
 }
 
-// The first non-empty time step of the named NodeData / ElementData, in read_mesh's order of
+// The first non-empty time step of the named NodeData / ElementData, in the reader's order of
 // nodes / cells (matched by tag, so any tag numbering works). Every node / cell must have a
-// value; values on elements other than the kept tetrahedra are ignored.
-std::vector<double> read_msh_field(const std::filesystem::path& file, const std::string& field_name, bool on_cells) {
-  const std::string name = file.string();
+// value; values on elements other than the kept cells are ignored.
+template <class Mesh>
+std::vector<double> field_values(const std::string& name, const Extracted<Mesh>& ex,
+                                 const std::vector<ViewData>& views, const std::string& field_name, bool on_cells) {
   const char* kind = on_cells ? "cell" : "node";
-  std::vector<ViewData> views;
-  const Extracted ex = open_and_extract(file, name, &views, true);
   const std::string type = on_cells ? "ElementData" : "NodeData";
   const ViewData* found = nullptr;
   std::string available;
@@ -669,7 +741,7 @@ std::vector<double> read_msh_field(const std::filesystem::path& file, const std:
   std::vector<char> set(n, 0);
   for (std::size_t i = 0; i < found->tags.size(); ++i) {
     const std::int32_t k = index.find(found->tags[i]);
-    if (k < 0 || found->values[i].empty()) continue;  // data on elements other than tetrahedra
+    if (k < 0 || found->values[i].empty()) continue;  // data on elements other than the cells
     values[static_cast<std::size_t>(k)] = found->values[i][0];
     set[static_cast<std::size_t>(k)] = 1;
   }
@@ -678,12 +750,14 @@ std::vector<double> read_msh_field(const std::filesystem::path& file, const std:
   return values;
 }
 
-// VTK XML UnstructuredGrid (format 0.1), ASCII: Float64 points and fields, Int64 connectivity
-// and offsets, cell type 10 (VTK_TETRA). Numbers as the shortest text that reads back to the
-// same double; a non-finite value is written nan / inf / -inf (which not every reader takes).
-// Everything is validated before the file is opened.
-void write_vtu(const std::filesystem::path& file, const TetMesh& mesh, const std::vector<Field>& cell_data,
-               const std::vector<Field>& point_data) {
+// VTK XML UnstructuredGrid (format 0.1), ASCII: Float64 points (z = 0 for triangles) and
+// fields, Int64 connectivity and offsets, cell type 10 (VTK_TETRA) or 5 (VTK_TRIANGLE). Numbers
+// as the shortest text that reads back to the same double; a non-finite value is written nan /
+// inf / -inf (which not every reader takes). Everything is validated before the file is opened.
+template <class Mesh>
+void vtu(const std::filesystem::path& file, const Mesh& mesh, const std::vector<Field>& cell_data,
+         const std::vector<Field>& point_data) {
+  using Dm = detail::Dim<Mesh>;
   const std::string name = file.string();
   check_mesh(name, mesh);
   check_fields(name, cell_data, mesh.cells.size());
@@ -707,44 +781,64 @@ void write_vtu(const std::filesystem::path& file, const TetMesh& mesh, const std
   data_section("PointData", point_data);
   data_section("CellData", cell_data);
   out << "      <Points>\n        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (const auto& p : mesh.nodes) out << p.x << ' ' << p.y << ' ' << p.z << '\n';
+  for (const auto& p : mesh.nodes) {
+    if constexpr (Dm::d == 3) {
+      out << p.x << ' ' << p.y << ' ' << p.z << '\n';
+    } else {
+      out << p.x << ' ' << p.y << " 0\n";
+    }
+  }
   out << "        </DataArray>\n      </Points>\n      <Cells>\n"
          "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
-  for (const auto& c : mesh.cells) out << c[0] << ' ' << c[1] << ' ' << c[2] << ' ' << c[3] << '\n';
+  for (const auto& c : mesh.cells) {
+    out << c[0];
+    for (std::size_t k = 1; k < Dm::nv; ++k) out << ' ' << c[k];
+    out << '\n';
+  }
   out << "        </DataArray>\n        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-  for (std::size_t c = 1; c <= mesh.cells.size(); ++c) out << 4 * c << '\n';
+  for (std::size_t c = 1; c <= mesh.cells.size(); ++c) out << Dm::nv * c << '\n';
   out << "        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-  for (std::size_t c = 0; c < mesh.cells.size(); ++c) out << "10\n";  // VTK_TETRA
+  const char* type = Dm::d == 3 ? "10\n" : "5\n";  // VTK_TETRA, VTK_TRIANGLE
+  for (std::size_t c = 0; c < mesh.cells.size(); ++c) out << type;
   out << "        </DataArray>\n      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
   out.close();
 }
 
 // .msh 4.1 ASCII, written as text (exact numbers, unlike Gmsh's 16 digits): one discrete
-// volume, nodes and cells tagged from 1 in the mesh's order, one $NodeData / $ElementData per
-// field (time step 0, one component).
-void write_msh(const std::filesystem::path& file, const TetMesh& mesh, const std::vector<Field>& cell_data,
-               const std::vector<Field>& point_data) {
+// volume (surface, for triangles: z = 0) holding every node and cell, node i tagged i + 1 and
+// cell c tagged c + 1, so that the reader gives back the same order; one $NodeData /
+// $ElementData per field (time step 0, one component).
+template <class Mesh>
+void msh(const std::filesystem::path& file, const Mesh& mesh, const std::vector<Field>& cell_data,
+         const std::vector<Field>& point_data) {
+  using Dm = detail::Dim<Mesh>;
   const std::string name = file.string();
   check_mesh(name, mesh);
   check_fields(name, cell_data, mesh.cells.size());
   check_fields(name, point_data, mesh.nodes.size());
-  // One discrete volume (entity 3:1) holding every node and cell; node i has tag i + 1 and cell
-  // c tag c + 1, so read_mesh gives back the same order.
-  Vec3 lo = mesh.nodes.front(), hi = lo;
+  std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
+  for (int d = 0; d < Dm::d; ++d) lo[d] = hi[d] = Dm::coord(mesh.nodes.front(), d);
   for (const auto& p : mesh.nodes)
-    for (int d = 0; d < 3; ++d) {
-      lo[d] = std::min(lo[d], p[d]);
-      hi[d] = std::max(hi[d], p[d]);
+    for (int d = 0; d < Dm::d; ++d) {
+      lo[d] = std::min(lo[d], Dm::coord(p, d));
+      hi[d] = std::max(hi[d], Dm::coord(p, d));
     }
   const std::size_t n = mesh.nodes.size(), m = mesh.cells.size();
   TextOut out(file);
   out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
-  out << "$Entities\n0 0 0 1\n1 " << lo.x << ' ' << lo.y << ' ' << lo.z << ' ' << hi.x << ' ' << hi.y << ' '
-      << hi.z << " 0 0\n$EndEntities\n";
-  out << "$Nodes\n1 " << n << " 1 " << n << "\n3 1 0 " << n << '\n';
+  out << "$Entities\n" << (Dm::d == 3 ? "0 0 0 1" : "0 0 1 0") << "\n1 " << lo[0] << ' ' << lo[1] << ' ' << lo[2]
+      << ' ' << hi[0] << ' ' << hi[1] << ' ' << hi[2] << " 0 0\n$EndEntities\n";
+  out << "$Nodes\n1 " << n << " 1 " << n << '\n' << Dm::d << " 1 0 " << n << '\n';
   for (std::size_t i = 1; i <= n; ++i) out << i << '\n';
-  for (const auto& p : mesh.nodes) out << p.x << ' ' << p.y << ' ' << p.z << '\n';
-  out << "$EndNodes\n$Elements\n1 " << m << " 1 " << m << "\n3 1 4 " << m << '\n';
+  for (const auto& p : mesh.nodes) {
+    if constexpr (Dm::d == 3) {
+      out << p.x << ' ' << p.y << ' ' << p.z << '\n';
+    } else {
+      out << p.x << ' ' << p.y << " 0\n";
+    }
+  }
+  out << "$EndNodes\n$Elements\n1 " << m << " 1 " << m << '\n'
+      << Dm::d << " 1 " << GmshCell<Mesh>::type << ' ' << m << '\n';
   for (std::size_t c = 0; c < m; ++c) {
     const auto& v = mesh.cells[c];
     out << c + 1;
@@ -757,24 +851,100 @@ void write_msh(const std::filesystem::path& file, const TetMesh& mesh, const std
   out.close();
 }
 
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+TetMesh read_mesh(const std::filesystem::path& file, MeshReadInfo* info) { return read<TetMesh>(file, info); }
+
+TriMesh read_tri_mesh(const std::filesystem::path& file, MeshReadInfo* info) { return read<TriMesh>(file, info); }
+
+// One Gmsh session: the dimension is decided on the loaded model, which is then extracted.
+AnyMesh read_any_mesh(const std::filesystem::path& file, MeshReadInfo* info) {
+  const std::string name = file.string();
+  check_mesh_file(file, name);
+  std::vector<ViewData> views;
+  const auto finish = [&](auto&& ex) {
+    if (ex.mesh.cells.empty()) fail(name, no_cells_message(ex));
+    finalize(ex.mesh, name);
+    if (info != nullptr) {
+      *info = MeshReadInfo{};
+      info->ignored_elements = ex.ignored;
+      for (const auto& v : views) (v.type == "NodeData" ? info->node_fields : info->cell_fields).push_back(v.name);
+    }
+    return AnyMesh(std::move(ex.mesh));
+  };
+  GmshSession s(name);
+  load(s, file);
+  const int dim = loaded_dimension(s);
+  if (dim == 0) {
+    Extracted<TetMesh> ex = extract<TetMesh>(s);
+    fail(name, "no tetrahedra or triangles (" + std::to_string(ex.ignored) + " other elements ignored)");
+  }
+  if (info != nullptr) views = loaded_views(s, false);
+  if (dim == 3) return finish(extract<TetMesh>(s));
+  return finish(extract<TriMesh>(s));
+}
+
+int mesh_dimension(const std::filesystem::path& file) {
+  const std::string name = file.string();
+  check_mesh_file(file, name);
+  GmshSession s(name);
+  load(s, file);
+  const int dim = loaded_dimension(s);
+  if (dim == 0) fail(name, "no tetrahedra or triangles");
+  return dim;
+}
+
+// The cells the field refers to are those of the file's dimension (tetrahedra if there are
+// any, else triangles), in the order read_mesh / read_tri_mesh give them.
+std::vector<double> read_msh_field(const std::filesystem::path& file, const std::string& field_name, bool on_cells) {
+  const std::string name = file.string();
+  check_mesh_file(file, name);
+  GmshSession s(name);
+  load(s, file);
+  const std::vector<ViewData> views = loaded_views(s, true);
+  if (loaded_dimension(s) == 2) return field_values(name, extract<TriMesh>(s), views, field_name, on_cells);
+  return field_values(name, extract<TetMesh>(s), views, field_name, on_cells);
+}
+
+void write_vtu(const std::filesystem::path& file, const TetMesh& mesh, const std::vector<Field>& cell_data,
+               const std::vector<Field>& point_data) {
+  vtu(file, mesh, cell_data, point_data);
+}
+void write_vtu(const std::filesystem::path& file, const TriMesh& mesh, const std::vector<Field>& cell_data,
+               const std::vector<Field>& point_data) {
+  vtu(file, mesh, cell_data, point_data);
+}
+
+void write_msh(const std::filesystem::path& file, const TetMesh& mesh, const std::vector<Field>& cell_data,
+               const std::vector<Field>& point_data) {
+  msh(file, mesh, cell_data, point_data);
+}
+void write_msh(const std::filesystem::path& file, const TriMesh& mesh, const std::vector<Field>& cell_data,
+               const std::vector<Field>& point_data) {
+  msh(file, mesh, cell_data, point_data);
+}
+
 // The generators: Gmsh's OpenCASCADE shapes, meshed at size h (Mesh.MeshSizeMin = Max = h),
-// 3D Delaunay, one thread, fixed seed: the same arguments give the same mesh. Boundary nodes
-// lie on the exact surface: the ball comes out slightly smaller than 4/3 pi r^3 (and the
-// torus, in practice, than 2 pi^2 R r^2).
-// Bad arguments throw std::invalid_argument; Gmsh's failures std::runtime_error.
+// Frontal-Delaunay surfaces and Delaunay volumes, one thread, fixed seed: the same arguments
+// give the same mesh. Boundary nodes lie on the exact boundary: the ball comes out slightly
+// smaller than 4/3 pi r^3 (the disk than pi r^2; the torus, in practice, than 2 pi^2 R r^2).
+// 2D shapes lie in the plane z = 0. Bad arguments throw std::invalid_argument; Gmsh's
+// failures std::runtime_error.
 TetMesh generate_box(Vec3 lo, Vec3 hi, double h) {
   const Vec3 d = hi - lo;
   if (!(d.x > 0.0 && d.y > 0.0 && d.z > 0.0) || !std::isfinite(d.x + d.y + d.z))
     throw std::invalid_argument("tetia: generate_box: need lo < hi in every coordinate");
-  return generate("generate_box", h, d.x * d.y * d.z,
-                  [&] { gmsh::model::occ::addBox(lo.x, lo.y, lo.z, d.x, d.y, d.z); });
+  return generate<TetMesh>("generate_box", h, d.x * d.y * d.z,
+                           [&] { gmsh::model::occ::addBox(lo.x, lo.y, lo.z, d.x, d.y, d.z); });
 }
 
 TetMesh generate_ball(Vec3 center, double radius, double h) {
   if (!(radius > 0.0) || !std::isfinite(radius) || !std::isfinite(center.x + center.y + center.z))
     throw std::invalid_argument("tetia: generate_ball: need a finite center and a positive radius");
-  return generate("generate_ball", h, 4.0 / 3.0 * std::numbers::pi * radius * radius * radius,
-                  [&] { gmsh::model::occ::addSphere(center.x, center.y, center.z, radius); });
+  return generate<TetMesh>("generate_ball", h, 4.0 / 3.0 * std::numbers::pi * radius * radius * radius,
+                           [&] { gmsh::model::occ::addSphere(center.x, center.y, center.z, radius); });
 }
 
 TetMesh generate_torus(Vec3 center, double major_radius, double minor_radius, double h) {
@@ -782,9 +952,38 @@ TetMesh generate_torus(Vec3 center, double major_radius, double minor_radius, do
       !std::isfinite(center.x + center.y + center.z))
     throw std::invalid_argument("tetia: generate_torus: need 0 < minor radius < major radius");
   // Axis z, as Gmsh makes it.
-  return generate("generate_torus", h,
-                  2.0 * std::numbers::pi * std::numbers::pi * major_radius * minor_radius * minor_radius,
-                  [&] { gmsh::model::occ::addTorus(center.x, center.y, center.z, major_radius, minor_radius); });
+  return generate<TetMesh>("generate_torus", h,
+                           2.0 * std::numbers::pi * std::numbers::pi * major_radius * minor_radius * minor_radius,
+                           [&] { gmsh::model::occ::addTorus(center.x, center.y, center.z, major_radius, minor_radius); });
+}
+
+TriMesh generate_rectangle(Vec2 lo, Vec2 hi, double h) {
+  const Vec2 d = hi - lo;
+  if (!(d.x > 0.0 && d.y > 0.0) || !std::isfinite(d.x + d.y))
+    throw std::invalid_argument("tetia: generate_rectangle: need lo < hi in every coordinate");
+  return generate<TriMesh>("generate_rectangle", h, d.x * d.y,
+                           [&] { gmsh::model::occ::addRectangle(lo.x, lo.y, 0.0, d.x, d.y); });
+}
+
+TriMesh generate_disk(Vec2 center, double radius, double h) {
+  if (!(radius > 0.0) || !std::isfinite(radius) || !std::isfinite(center.x + center.y))
+    throw std::invalid_argument("tetia: generate_disk: need a finite center and a positive radius");
+  return generate<TriMesh>("generate_disk", h, std::numbers::pi * radius * radius,
+                           [&] { gmsh::model::occ::addDisk(center.x, center.y, 0.0, radius, radius); });
+}
+
+TriMesh generate_annulus(Vec2 center, double inner_radius, double outer_radius, double h) {
+  if (!(inner_radius > 0.0 && outer_radius > inner_radius) || !std::isfinite(outer_radius) ||
+      !std::isfinite(center.x + center.y))
+    throw std::invalid_argument("tetia: generate_annulus: need 0 < inner radius < outer radius");
+  return generate<TriMesh>(
+      "generate_annulus", h, std::numbers::pi * (outer_radius * outer_radius - inner_radius * inner_radius), [&] {
+        const int outer = gmsh::model::occ::addDisk(center.x, center.y, 0.0, outer_radius, outer_radius);
+        const int inner = gmsh::model::occ::addDisk(center.x, center.y, 0.0, inner_radius, inner_radius);
+        std::vector<std::pair<int, int>> out;
+        std::vector<std::vector<std::pair<int, int>>> out_map;
+        gmsh::model::occ::cut({{2, outer}}, {{2, inner}}, out, out_map);
+      });
 }
 
 }  // namespace tetia

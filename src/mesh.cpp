@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <unordered_map>
+
+#include "dimension.hpp"
 
 namespace tetia {
 
@@ -13,78 +16,93 @@ double TetMesh::total_volume() const {
   return s;
 }
 
+double TriMesh::total_area() const {
+  double s = 0.0;
+  for (const double a : areas) s += a;
+  return s;
+}
+
 namespace {
 
 [[noreturn]] void fail(const std::string& name, const std::string& what) {
   throw std::runtime_error("tetia: " + name + ": " + what);
 }
 
-// A face as its three node indices, sorted, packed for hashing.
-struct FaceKey {
-  std::int32_t a, b, c;
-  bool operator==(const FaceKey&) const = default;
-};
-struct FaceHash {
-  std::size_t operator()(const FaceKey& k) const {
-    std::uint64_t h = static_cast<std::uint32_t>(k.a);
-    h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k.b);
-    h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k.c);
+// A facet (face of a tetrahedron, edge of a triangle) as its node indices, sorted.
+template <std::size_t N>
+struct FacetHash {
+  std::size_t operator()(const std::array<std::int32_t, N>& k) const {
+    std::uint64_t h = 0;
+    for (const std::int32_t v : k) h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(v);
     return static_cast<std::size_t>(h ^ (h >> 29));
   }
 };
 
-}  // namespace
-
-void finalize(TetMesh& m, const std::string& name) {
-  if (m.cells.empty()) fail(name, "no tetrahedra");
+// One implementation for both dimensions: the checks, the orientation and the adjacency do not
+// depend on it (facet k of a cell is the one without its vertex k in either).
+template <class Mesh>
+void finalize_mesh(Mesh& m, const std::string& name) {
+  using D = detail::Dim<Mesh>;
+  constexpr std::size_t nv = D::nv;
+  if (m.cells.empty()) fail(name, std::string("no ") + D::cells_word);
   const auto n = static_cast<std::int64_t>(m.nodes.size());
-  for (std::size_t i = 0; i < m.nodes.size(); ++i) {
-    const Vec3& p = m.nodes[i];
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      fail(name, "node " + std::to_string(i) + ": non-finite coordinate");
-  }
-  m.volumes.assign(m.cells.size(), 0.0);
+  for (std::size_t i = 0; i < m.nodes.size(); ++i)
+    for (int k = 0; k < D::d; ++k)
+      if (!std::isfinite(D::coord(m.nodes[i], k))) fail(name, "node " + std::to_string(i) + ": non-finite coordinate");
+  auto& measures = D::measures(m);
+  measures.assign(m.cells.size(), 0.0);
   m.reoriented_cells = m.flat_cells = 0;
   for (std::size_t c = 0; c < m.cells.size(); ++c) {
     auto& v = m.cells[c];
     for (const auto idx : v)
       if (idx < 0 || idx >= n)
         fail(name, "cell " + std::to_string(c) + ": node index " + std::to_string(idx) + " out of range");
-    if (v[0] == v[1] || v[0] == v[2] || v[0] == v[3] || v[1] == v[2] || v[1] == v[3] || v[2] == v[3])
-      fail(name, "cell " + std::to_string(c) + ": repeated node");
-    const double sv = signed_volume(m.cell(c));
+    for (std::size_t a = 0; a < nv; ++a)
+      for (std::size_t b = a + 1; b < nv; ++b)
+        if (v[a] == v[b]) fail(name, "cell " + std::to_string(c) + ": repeated node");
+    const double sv = D::signed_measure(m.cell(c));
     if (sv < 0.0) {
-      std::swap(v[2], v[3]);
+      std::swap(v[nv - 2], v[nv - 1]);  // an odd permutation: the orientation flips
       ++m.reoriented_cells;
     } else if (sv == 0.0) {
       ++m.flat_cells;
     }
-    m.volumes[c] = std::abs(sv);
+    measures[c] = std::abs(sv);
   }
-  // Face adjacency in linear (expected) time: each face is entered once in a hash map; its
+  // Facet adjacency in linear (expected) time: each facet is entered once in a hash map; its
   // second occurrence links the two cells.
-  m.neighbors.assign(m.cells.size(), {-1, -1, -1, -1});
-  std::unordered_map<FaceKey, std::int64_t, FaceHash> open;
+  using Key = std::array<std::int32_t, nv - 1>;
+  std::array<std::int32_t, nv> none;
+  none.fill(-1);
+  m.neighbors.assign(m.cells.size(), none);
+  std::unordered_map<Key, std::int64_t, FacetHash<nv - 1>> open;
   open.reserve(m.cells.size() * 2);
   for (std::size_t c = 0; c < m.cells.size(); ++c) {
     const auto& v = m.cells[c];
-    for (int k = 0; k < 4; ++k) {
-      std::int32_t f[3], j = 0;
-      for (int q = 0; q < 4; ++q)
-        if (q != k) f[j++] = v[static_cast<std::size_t>(q)];
-      std::sort(f, f + 3);
-      const FaceKey key{f[0], f[1], f[2]};
-      const std::int64_t here = static_cast<std::int64_t>(c) * 4 + k;
+    for (std::size_t k = 0; k < nv; ++k) {
+      Key key;
+      std::size_t j = 0;
+      for (std::size_t q = 0; q < nv; ++q)
+        if (q != k) key[j++] = v[q];
+      std::sort(key.begin(), key.end());
+      const std::int64_t here = static_cast<std::int64_t>(c * nv + k);
       auto [it, inserted] = open.try_emplace(key, here);
       if (inserted) continue;
       const std::int64_t other = it->second;
-      if (other < 0) fail(name, "cell " + std::to_string(c) + ": a face shared by more than two cells");
-      m.neighbors[c][static_cast<std::size_t>(k)] = static_cast<std::int32_t>(other / 4);
-      m.neighbors[static_cast<std::size_t>(other / 4)][static_cast<std::size_t>(other % 4)] = static_cast<std::int32_t>(c);
+      if (other < 0)
+        fail(name, "cell " + std::to_string(c) + ": " + D::facet_word + " shared by more than two cells");
+      const auto oc = static_cast<std::size_t>(other) / nv, ok = static_cast<std::size_t>(other) % nv;
+      m.neighbors[c][k] = static_cast<std::int32_t>(oc);
+      m.neighbors[oc][ok] = static_cast<std::int32_t>(c);
       it->second = -1;  // closed
     }
   }
 }
+
+}  // namespace
+
+void finalize(TetMesh& m, const std::string& name) { finalize_mesh(m, name); }
+void finalize(TriMesh& m, const std::string& name) { finalize_mesh(m, name); }
 
 TetMesh make_kuhn_mesh(std::array<int, 3> n, Vec3 origin, Vec3 h) {
   if (n[0] < 1 || n[1] < 1 || n[2] < 1) throw std::invalid_argument("tetia: make_kuhn_mesh: empty grid");
@@ -115,6 +133,27 @@ TetMesh make_kuhn_mesh(std::array<int, 3> n, Vec3 origin, Vec3 h) {
           if (signed_volume(m.cell(m.cells.size() - 1)) < 0.0) std::swap(m.cells.back()[2], m.cells.back()[3]);
         }
   finalize(m, "kuhn mesh");
+  return m;
+}
+
+}  // namespace tetia
+
+namespace tetia {
+
+TriMesh make_structured_tri_mesh(std::array<int, 2> n, Vec2 origin, Vec2 h) {
+  if (n[0] < 1 || n[1] < 1) throw std::invalid_argument("tetia: make_structured_tri_mesh: empty grid");
+  TriMesh m;
+  const auto id = [&](int i, int j) { return static_cast<std::int32_t>(j * (n[0] + 1) + i); };
+  for (int j = 0; j <= n[1]; ++j)
+    for (int i = 0; i <= n[0]; ++i) m.nodes.push_back({origin.x + i * h.x, origin.y + j * h.y});
+  // The two triangles of a rectangle around its diagonal (0,0)-(1,1), as the Kuhn split does:
+  // one per order of the axes along which a monotone path climbs from one corner to the other.
+  for (int j = 0; j < n[1]; ++j)
+    for (int i = 0; i < n[0]; ++i) {
+      m.cells.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});  // x first: counter-clockwise
+      m.cells.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});  // y first, reordered to be so
+    }
+  finalize(m, "structured triangle mesh");
   return m;
 }
 

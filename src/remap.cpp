@@ -1,5 +1,13 @@
 // Conservative remap on a supermesh: P0 by piece volumes, P1 by the Galerkin L2 projection
-// with the mixed mass matrix integrated exactly on each piece's tetrahedralization.
+// with the mixed mass matrix integrated exactly on each piece's simplices (tetrahedra of a
+// polyhedron, triangles of a polygon's fan).
+//
+// One implementation for both dimensions: templates over the mesh type (src/dimension.hpp).
+// The products of two linear functions on a simplex of dimension d integrate to
+// |S| / ((d + 1)(d + 2)) (sum_v f_v g_v + (sum_v f_v)(sum_v g_v)): 1/20 in 3D, 1/12 in 2D; the
+// consistent mass matrix is the case f = g = basis functions. Only the side test of a corner
+// (barycentric coordinates from orient3d / orient2d), the simplices of a kernel result and the
+// quadrature rule are written per dimension.
 #include "tetia/remap.hpp"
 
 #include <algorithm>
@@ -14,6 +22,8 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCore>
 
+#include "dimension.hpp"
+
 namespace tetia {
 
 namespace {
@@ -21,17 +31,19 @@ namespace {
 using SpMat = Eigen::SparseMatrix<double>;  // column major
 using Triplet = Eigen::Triplet<double>;
 
-void check_meshes(const Supermesh& s, const char* who) {
+template <class Result>
+void check_meshes(const Result& s, const char* who) {
   if (s.source == nullptr || s.target == nullptr)
     throw std::invalid_argument(std::string("tetia: ") + who + ": the supermesh has no source or target mesh");
 }
 
-void check_polyhedra(const Supermesh& s, const char* who) {
+template <class Mesh>
+void check_shapes(const typename detail::Dim<Mesh>::Result& s, const char* who) {
   check_meshes(s, who);
-  if (s.polyhedra.size() != s.pieces.size())
-    throw std::invalid_argument(std::string("tetia: ") + who +
-                                ": the supermesh has no polyhedra; build it with "
-                                "SupermeshOptions::keep_polyhedra = true");
+  if (detail::Dim<Mesh>::shapes(s).size() != s.pieces.size())
+    throw std::invalid_argument(std::string("tetia: ") + who + ": the supermesh has no " +
+                                (detail::Dim<Mesh>::d == 3 ? "polyhedra" : "polygons") +
+                                "; build it with SupermeshOptions::keep_polyhedra = true");
 }
 
 void check_size(std::size_t got, std::size_t want, const char* who, const char* what) {
@@ -42,75 +54,114 @@ void check_size(std::size_t got, std::size_t want, const char* who, const char* 
 
 std::size_t idx(std::int32_t i) { return static_cast<std::size_t>(i); }
 
+// Barycentric coordinates of p in U, not normalized for rounding (det is U's determinant).
+std::array<double, 4> barycentric(const Tet& U, Vec3 p, double det) {
+  return {orient3d(p, U[1], U[2], U[3]) / det, orient3d(U[0], p, U[2], U[3]) / det,
+          orient3d(U[0], U[1], p, U[3]) / det, orient3d(U[0], U[1], U[2], p) / det};
+}
+std::array<double, 3> barycentric(const Triangle& U, Vec2 p, double det) {
+  return {orient2d(p, U[1], U[2]) / det, orient2d(U[0], p, U[2]) / det, orient2d(U[0], U[1], p) / det};
+}
+double determinant(const Tet& U) { return orient3d(U[0], U[1], U[2], U[3]); }
+double determinant(const Triangle& U) { return orient2d(U[0], U[1], U[2]); }
+
+// The simplices of a kernel result as corner indices, each with its weight |S| / ((d+1)(d+2))
+// (the factor of the exact product rule, see the top), computed as one determinant divided by
+// d! (d+1) (d+2). A polyhedron: the fan from corner 0 over the facets that do not contain it
+// (facets are counter-clockwise seen from outside, so the determinants are positive).
+template <class F>
+void for_each_simplex(const Polyhedron& P, F&& f) {
+  const Vec3 apex = P.corner(0).point;
+  for (int fa = 0; fa < P.num_facets(); ++fa) {
+    const auto ids = P.facet(fa);
+    if (std::find(ids.begin(), ids.end(), std::uint8_t{0}) != ids.end()) continue;
+    for (std::size_t k = 1; k + 1 < ids.size(); ++k) {
+      const std::array<int, 4> v = {0, ids[0], ids[k], ids[k + 1]};
+      f(v, orient3d(apex, P.corner(v[1]).point, P.corner(v[2]).point, P.corner(v[3]).point) / 120.0);
+    }
+  }
+}
+// A polygon: the fan from corner 0 (corners are counter-clockwise).
+template <class F>
+void for_each_simplex(const Polygon& P, F&& f) {
+  const Vec2 apex = P.corner(0).point;
+  for (int k = 1; k + 1 < P.num_corners(); ++k) {
+    const std::array<int, 3> v = {0, k, k + 1};
+    f(v, orient2d(apex, P.corner(k).point, P.corner(k + 1).point) / 24.0);
+  }
+}
+
+template <class Mesh>
+using CornerBary = std::array<std::array<double, detail::Dim<Mesh>::nv>, detail::Dim<Mesh>::Shape::max_corners>;
+
 // Barycentric coordinates of the corners of a piece in its source cell U: computed from the
-// point, with the coordinates of U's planes the corner lies on (labels 0-3) set to exactly
+// point, with the coordinates of U's facets the corner lies on (labels below nv) set to exactly
 // zero, negatives (rounding) clamped, scaled to sum to 1.
-void source_bary(const Tet& U, const Polyhedron& P, std::array<std::array<double, 4>, Polyhedron::max_corners>& out) {
-  const double det = orient3d(U[0], U[1], U[2], U[3]);
+template <class Mesh>
+void source_bary(const typename detail::Dim<Mesh>::Cell& U, const typename detail::Dim<Mesh>::Shape& P,
+                 CornerBary<Mesh>& out) {
+  constexpr std::size_t nv = detail::Dim<Mesh>::nv;
+  const double det = determinant(U);
   for (int c = 0; c < P.num_corners(); ++c) {
-    const Corner& k = P.corner(c);
-    const Vec3 p = k.point;
-    double b[4] = {orient3d(p, U[1], U[2], U[3]) / det, orient3d(U[0], p, U[2], U[3]) / det,
-                   orient3d(U[0], U[1], p, U[3]) / det, orient3d(U[0], U[1], U[2], p) / det};
+    const auto& k = P.corner(c);
+    auto b = barycentric(U, k.point, det);
     for (const auto l : k.labels)
-      if (l < 4) b[l] = 0.0;
+      if (l < nv) b[l] = 0.0;
     double sum = 0.0;
     for (double& x : b) {
       if (!(x > 0.0)) x = 0.0;
       sum += x;
     }
     auto& o = out[static_cast<std::size_t>(c)];
-    for (int q = 0; q < 4; ++q) o[static_cast<std::size_t>(q)] = sum > 0.0 ? b[q] / sum : 0.25;
+    for (std::size_t q = 0; q < nv; ++q) o[q] = sum > 0.0 ? b[q] / sum : 1.0 / static_cast<double>(nv);
   }
 }
 
 // Local mixed mass matrix of one piece: A[i][j] = integral over the piece of (target basis i) x
-// (source basis j), exact for the product of two linear functions on each tetrahedron of the
-// fan from corner 0: |T|/20 (sum_v f_v g_v + (sum_v f_v)(sum_v g_v)).
-void local_mixed(const Polyhedron& P, const std::array<std::array<double, 4>, Polyhedron::max_corners>& sb,
-                 double (&A)[4][4]) {
+// (source basis j), exact for the product of two linear functions on each simplex.
+template <class Mesh>
+void local_mixed(const typename detail::Dim<Mesh>::Shape& P, const CornerBary<Mesh>& sb,
+                 double (&A)[detail::Dim<Mesh>::nv][detail::Dim<Mesh>::nv]) {
+  constexpr std::size_t nv = detail::Dim<Mesh>::nv;
   for (auto& row : A)
     for (double& x : row) x = 0.0;
-  const Vec3 apex = P.corner(0).point;
-  for (int f = 0; f < P.num_facets(); ++f) {
-    const auto ids = P.facet(f);
-    if (std::find(ids.begin(), ids.end(), std::uint8_t{0}) != ids.end()) continue;
-    for (std::size_t k = 1; k + 1 < ids.size(); ++k) {
-      const int v[4] = {0, ids[0], ids[k], ids[k + 1]};
-      const double w = orient3d(apex, P.corner(v[1]).point, P.corner(v[2]).point, P.corner(v[3]).point) / 120.0;
-      double F[4] = {0, 0, 0, 0}, G[4] = {0, 0, 0, 0}, FG[4][4] = {};
-      for (const int c : v) {
-        const auto& f4 = P.corner(c).bary;
-        const auto& g4 = sb[static_cast<std::size_t>(c)];
-        for (int i = 0; i < 4; ++i) {
-          F[i] += f4[static_cast<std::size_t>(i)];
-          G[i] += g4[static_cast<std::size_t>(i)];
-          for (int j = 0; j < 4; ++j) FG[i][j] += f4[static_cast<std::size_t>(i)] * g4[static_cast<std::size_t>(j)];
-        }
+  for_each_simplex(P, [&](const std::array<int, nv>& v, double w) {
+    double F[nv] = {}, G[nv] = {}, FG[nv][nv] = {};
+    for (const int c : v) {
+      const auto& f = P.corner(c).bary;
+      const auto& g = sb[static_cast<std::size_t>(c)];
+      for (std::size_t i = 0; i < nv; ++i) {
+        F[i] += f[i];
+        G[i] += g[i];
+        for (std::size_t j = 0; j < nv; ++j) FG[i][j] += f[i] * g[j];
       }
-      for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j) A[i][j] += w * (FG[i][j] + F[i] * G[j]);
     }
-  }
+    for (std::size_t i = 0; i < nv; ++i)
+      for (std::size_t j = 0; j < nv; ++j) A[i][j] += w * (FG[i][j] + F[i] * G[j]);
+  });
 }
 
-SpMat mixed_mass(const Supermesh& s) {
-  const TetMesh& src = *s.source;
-  const TetMesh& tgt = *s.target;
+template <class Mesh>
+SpMat mixed_mass(const typename detail::Dim<Mesh>::Result& s) {
+  using Dm = detail::Dim<Mesh>;
+  constexpr std::size_t nv = Dm::nv;
+  const Mesh& src = *s.source;
+  const Mesh& tgt = *s.target;
+  const auto& shapes = Dm::shapes(s);
   std::vector<Triplet> trip;
-  trip.reserve(s.pieces.size() * 16);
-  std::array<std::array<double, 4>, Polyhedron::max_corners> sb{};
-  double A[4][4];
+  trip.reserve(s.pieces.size() * nv * nv);
+  CornerBary<Mesh> sb{};
+  double A[nv][nv];
   for (std::size_t k = 0; k < s.pieces.size(); ++k) {
-    const SupermeshPiece& pc = s.pieces[k];
-    const Polyhedron& P = s.polyhedra[k];
+    const auto& pc = s.pieces[k];
+    const auto& P = shapes[k];
     if (P.empty()) continue;
-    source_bary(src.cell(idx(pc.source)), P, sb);
-    local_mixed(P, sb, A);
+    source_bary<Mesh>(src.cell(idx(pc.source)), P, sb);
+    local_mixed<Mesh>(P, sb, A);
     const auto& tn = tgt.cells[idx(pc.target)];
     const auto& sn = src.cells[idx(pc.source)];
-    for (int i = 0; i < 4; ++i)
-      for (int j = 0; j < 4; ++j) trip.emplace_back(tn[static_cast<std::size_t>(i)], sn[static_cast<std::size_t>(j)], A[i][j]);
+    for (std::size_t i = 0; i < nv; ++i)
+      for (std::size_t j = 0; j < nv; ++j) trip.emplace_back(tn[i], sn[j], A[i][j]);
   }
   SpMat M(static_cast<Eigen::Index>(tgt.num_nodes()), static_cast<Eigen::Index>(src.num_nodes()));
   M.setFromTriplets(trip.begin(), trip.end());
@@ -119,17 +170,22 @@ SpMat mixed_mass(const Supermesh& s) {
 
 // The consistent P1 mass matrix; a node in no cell (or only in flat ones) gets a unit diagonal,
 // so that it solves to 0 (its right-hand side is 0) instead of breaking the solver.
-SpMat mass_matrix(const TetMesh& m) {
+template <class Mesh>
+SpMat mass_matrix(const Mesh& m) {
+  using Dm = detail::Dim<Mesh>;
+  constexpr std::size_t nv = Dm::nv;
+  constexpr double factor = (Dm::d + 1) * (Dm::d + 2);
+  const auto& measures = Dm::measures(m);
   std::vector<Triplet> trip;
-  trip.reserve(m.num_cells() * 16);
+  trip.reserve(m.num_cells() * nv * nv);
   std::vector<char> used(m.num_nodes(), 0);
   for (std::size_t c = 0; c < m.num_cells(); ++c) {
-    const double w = m.volumes[c] / 20.0;
+    const double w = measures[c] / factor;
     if (!(w > 0.0)) continue;
     const auto& v = m.cells[c];
-    for (int i = 0; i < 4; ++i) {
-      used[idx(v[static_cast<std::size_t>(i)])] = 1;
-      for (int j = 0; j < 4; ++j) trip.emplace_back(v[static_cast<std::size_t>(i)], v[static_cast<std::size_t>(j)], i == j ? 2.0 * w : w);
+    for (std::size_t i = 0; i < nv; ++i) {
+      used[idx(v[i])] = 1;
+      for (std::size_t j = 0; j < nv; ++j) trip.emplace_back(v[i], v[j], i == j ? 2.0 * w : w);
     }
   }
   for (std::size_t n = 0; n < m.num_nodes(); ++n)
@@ -139,52 +195,74 @@ SpMat mass_matrix(const TetMesh& m) {
   return M;
 }
 
-// A conical product Gauss rule on the reference tetrahedron (Duffy map of 4^3 Gauss-Legendre
-// points): exact for polynomials of degree 5. Points as barycentric coordinates, weights
-// summing to 1 (multiply by the cell volume).
+// Conical product Gauss rules (Duffy map of 4 Gauss-Legendre points per axis) on the reference
+// simplex: 4^3 = 64 points on the tetrahedron, exact for degree 5 (the Jacobian (1-u)^2 (1-v)
+// takes two of the 7 degrees in u), 4^2 = 16 points on the triangle, exact for degree 6 (the
+// Jacobian (1-u) takes one). Points as barycentric coordinates, weights summing to 1 (multiply
+// by the cell's measure).
+template <int D>
 struct Rule {
-  std::array<std::array<double, 4>, 64> bary;
-  std::array<double, 64> weight;
+  static constexpr std::size_t n = D == 3 ? 64 : 16;
+  std::array<std::array<double, D + 1>, n> bary;
+  std::array<double, n> weight;
 };
 
-const Rule& rule() {
-  static const Rule r = [] {
-    Rule q{};
+template <int D>
+const Rule<D>& rule() {
+  static const Rule<D> r = [] {
+    Rule<D> q{};
     const double x[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
     const double w[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538};
     std::size_t n = 0;
-    for (int a = 0; a < 4; ++a)
-      for (int b = 0; b < 4; ++b)
-        for (int c = 0; c < 4; ++c) {
-          const double u = 0.5 * (1.0 + x[a]), v = 0.5 * (1.0 + x[b]), t = 0.5 * (1.0 + x[c]);
-          const double x1 = u, x2 = v * (1.0 - u), x3 = t * (1.0 - u) * (1.0 - v);
-          q.bary[n] = {1.0 - x1 - x2 - x3, x1, x2, x3};
-          // Jacobian (1-u)^2 (1-v), Gauss weights on [0,1] (w/2 each), reference volume 1/6.
-          q.weight[n] = 6.0 * (0.125 * w[a] * w[b] * w[c]) * (1.0 - u) * (1.0 - u) * (1.0 - v);
+    if constexpr (D == 3) {
+      for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b)
+          for (int c = 0; c < 4; ++c) {
+            const double u = 0.5 * (1.0 + x[a]), v = 0.5 * (1.0 + x[b]), t = 0.5 * (1.0 + x[c]);
+            const double x1 = u, x2 = v * (1.0 - u), x3 = t * (1.0 - u) * (1.0 - v);
+            q.bary[n] = {1.0 - x1 - x2 - x3, x1, x2, x3};
+            // Jacobian (1-u)^2 (1-v), Gauss weights on [0,1] (w/2 each), reference volume 1/6.
+            q.weight[n] = 6.0 * (0.125 * w[a] * w[b] * w[c]) * (1.0 - u) * (1.0 - u) * (1.0 - v);
+            ++n;
+          }
+    } else {
+      for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b) {
+          const double u = 0.5 * (1.0 + x[a]), v = 0.5 * (1.0 + x[b]);
+          const double x1 = u, x2 = v * (1.0 - u);
+          q.bary[n] = {1.0 - x1 - x2, x1, x2};
+          // Jacobian (1-u), Gauss weights on [0,1] (w/2 each), reference area 1/2.
+          q.weight[n] = 2.0 * (0.25 * w[a] * w[b]) * (1.0 - u);
           ++n;
         }
+    }
     return q;
   }();
   return r;
 }
 
-Vec3 at(const Tet& T, const std::array<double, 4>& b) {
-  return b[0] * T[0] + b[1] * T[1] + b[2] * T[2] + b[3] * T[3];
+template <class Cell, std::size_t N>
+auto at(const Cell& T, const std::array<double, N>& b) {
+  auto p = b[0] * T[0];
+  for (std::size_t k = 1; k < N; ++k) p = p + b[k] * T[k];
+  return p;
 }
 
-}  // namespace
-
-std::vector<double> covered_volumes(const Supermesh& s) {
-  check_meshes(s, "covered_volumes");
+template <class Mesh>
+std::vector<double> covered(const typename detail::Dim<Mesh>::Result& s, const char* who) {
+  check_meshes(s, who);
   std::vector<double> cov(s.target->num_cells(), 0.0);
-  for (const auto& pc : s.pieces) cov[idx(pc.target)] += pc.volume;
+  for (const auto& pc : s.pieces) cov[idx(pc.target)] += detail::Dim<Mesh>::measure(pc);
   return cov;
 }
 
-std::vector<double> remap_p0(const Supermesh& s, std::span<const double> values, P0Normalization normalization) {
+template <class Mesh>
+std::vector<double> p0(const typename detail::Dim<Mesh>::Result& s, std::span<const double> values,
+                       P0Normalization normalization) {
+  using Dm = detail::Dim<Mesh>;
   check_meshes(s, "remap_p0");
   check_size(values.size(), s.source->num_cells(), "remap_p0", "source cell");
-  const TetMesh& tgt = *s.target;
+  const Mesh& tgt = *s.target;
   std::vector<double> out(tgt.num_cells(), 0.0);
   // Pieces are sorted by target: one pass, each target's sum in source order.
   std::size_t k = 0;
@@ -192,19 +270,22 @@ std::vector<double> remap_p0(const Supermesh& s, std::span<const double> values,
     const std::int32_t t = s.pieces[k].target;
     double num = 0.0, cov = 0.0;
     for (; k < s.pieces.size() && s.pieces[k].target == t; ++k) {
-      num += values[idx(s.pieces[k].source)] * s.pieces[k].volume;
-      cov += s.pieces[k].volume;
+      const double m = Dm::measure(s.pieces[k]);
+      num += values[idx(s.pieces[k].source)] * m;
+      cov += m;
     }
-    const double den = normalization == P0Normalization::covered_volume ? cov : tgt.volumes[idx(t)];
+    const double den = normalization == P0Normalization::covered_volume ? cov : Dm::measures(tgt)[idx(t)];
     out[idx(t)] = den > 0.0 ? num / den : 0.0;
   }
   return out;
 }
 
-std::vector<double> remap_p1(const Supermesh& s, std::span<const double> values, P1RemapReport* report) {
-  check_polyhedra(s, "remap_p1");
+template <class Mesh>
+std::vector<double> p1(const typename detail::Dim<Mesh>::Result& s, std::span<const double> values,
+                       P1RemapReport* report) {
+  check_shapes<Mesh>(s, "remap_p1");
   check_size(values.size(), s.source->num_nodes(), "remap_p1", "source node");
-  const SpMat Mts = mixed_mass(s);
+  const SpMat Mts = mixed_mass<Mesh>(s);
   const SpMat Mt = mass_matrix(*s.target);
   const Eigen::Map<const Eigen::VectorXd> us(values.data(), static_cast<Eigen::Index>(values.size()));
   const Eigen::VectorXd b = Mts * us;
@@ -224,9 +305,10 @@ std::vector<double> remap_p1(const Supermesh& s, std::span<const double> values,
   return std::vector<double>(u.data(), u.data() + u.size());
 }
 
-void write_mixed_mass_matrix(const Supermesh& s, const std::filesystem::path& file) {
-  check_polyhedra(s, "write_mixed_mass_matrix");
-  const Eigen::SparseMatrix<double, Eigen::RowMajor> M = mixed_mass(s);
+template <class Mesh>
+void write_mixed(const typename detail::Dim<Mesh>::Result& s, const std::filesystem::path& file) {
+  check_shapes<Mesh>(s, "write_mixed_mass_matrix");
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> M = mixed_mass<Mesh>(s);
   const std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(file.c_str(), "w"), &std::fclose);
   if (!f) throw std::runtime_error("tetia: " + file.string() + ": cannot open for writing");
   std::fprintf(f.get(), "%%%%MatrixMarket matrix coordinate real general\n");
@@ -243,28 +325,36 @@ void write_mixed_mass_matrix(const Supermesh& s, const std::filesystem::path& fi
   if (std::ferror(f.get())) throw std::runtime_error("tetia: " + file.string() + ": write error");
 }
 
-double integral_p0(const TetMesh& mesh, std::span<const double> values) {
+template <class Mesh>
+double int_p0(const Mesh& mesh, std::span<const double> values) {
   check_size(values.size(), mesh.num_cells(), "integral_p0", "cell");
+  const auto& measures = detail::Dim<Mesh>::measures(mesh);
   double sum = 0.0;
-  for (std::size_t c = 0; c < mesh.num_cells(); ++c) sum += values[c] * mesh.volumes[c];
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c) sum += values[c] * measures[c];
   return sum;
 }
 
-double integral_p1(const TetMesh& mesh, std::span<const double> values) {
+template <class Mesh>
+double int_p1(const Mesh& mesh, std::span<const double> values) {
+  using Dm = detail::Dim<Mesh>;
   check_size(values.size(), mesh.num_nodes(), "integral_p1", "node");
+  const auto& measures = Dm::measures(mesh);
   double sum = 0.0;
   for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
     const auto& v = mesh.cells[c];
-    sum += 0.25 * mesh.volumes[c] * (values[idx(v[0])] + values[idx(v[1])] + values[idx(v[2])] + values[idx(v[3])]);
+    double nodal = values[idx(v[0])];
+    for (std::size_t k = 1; k < Dm::nv; ++k) nodal += values[idx(v[k])];
+    sum += (1.0 / Dm::nv) * measures[c] * nodal;
   }
   return sum;
 }
 
-std::vector<double> average_over_cells(const TetMesh& mesh, const std::function<double(Vec3)>& f) {
-  const Rule& q = rule();
+template <class Mesh, class F>
+std::vector<double> averages(const Mesh& mesh, const F& f) {
+  const auto& q = rule<detail::Dim<Mesh>::d>();
   std::vector<double> out(mesh.num_cells(), 0.0);
   for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
-    const Tet T = mesh.cell(c);
+    const auto T = mesh.cell(c);
     double s = 0.0;
     for (std::size_t k = 0; k < q.weight.size(); ++k) s += q.weight[k] * f(at(T, q.bary[k]));
     out[c] = s;
@@ -272,40 +362,105 @@ std::vector<double> average_over_cells(const TetMesh& mesh, const std::function<
   return out;
 }
 
-double l2_error_p0(const TetMesh& mesh, std::span<const double> values, const std::function<double(Vec3)>& f) {
+template <class Mesh, class F>
+double err_p0(const Mesh& mesh, std::span<const double> values, const F& f) {
   check_size(values.size(), mesh.num_cells(), "l2_error_p0", "cell");
-  const Rule& q = rule();
+  const auto& q = rule<detail::Dim<Mesh>::d>();
+  const auto& measures = detail::Dim<Mesh>::measures(mesh);
   double sum = 0.0;
   for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
-    const Tet T = mesh.cell(c);
+    const auto T = mesh.cell(c);
     double s = 0.0;
     for (std::size_t k = 0; k < q.weight.size(); ++k) {
       const double e = values[c] - f(at(T, q.bary[k]));
       s += q.weight[k] * e * e;
     }
-    sum += s * mesh.volumes[c];
+    sum += s * measures[c];
   }
   return std::sqrt(sum);
 }
 
-double l2_error_p1(const TetMesh& mesh, std::span<const double> values, const std::function<double(Vec3)>& f) {
+template <class Mesh, class F>
+double err_p1(const Mesh& mesh, std::span<const double> values, const F& f) {
+  using Dm = detail::Dim<Mesh>;
   check_size(values.size(), mesh.num_nodes(), "l2_error_p1", "node");
-  const Rule& q = rule();
+  const auto& q = rule<Dm::d>();
+  const auto& measures = Dm::measures(mesh);
   double sum = 0.0;
   for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
-    const Tet T = mesh.cell(c);
+    const auto T = mesh.cell(c);
     const auto& v = mesh.cells[c];
     double s = 0.0;
     for (std::size_t k = 0; k < q.weight.size(); ++k) {
       const auto& b = q.bary[k];
-      const double uh = b[0] * values[idx(v[0])] + b[1] * values[idx(v[1])] + b[2] * values[idx(v[2])] +
-                        b[3] * values[idx(v[3])];
+      double uh = b[0] * values[idx(v[0])];
+      for (std::size_t j = 1; j < Dm::nv; ++j) uh += b[j] * values[idx(v[j])];
       const double e = uh - f(at(T, b));
       s += q.weight[k] * e * e;
     }
-    sum += s * mesh.volumes[c];
+    sum += s * measures[c];
   }
   return std::sqrt(sum);
+}
+
+}  // namespace
+
+// 3D
+
+std::vector<double> covered_volumes(const Supermesh& s) { return covered<TetMesh>(s, "covered_volumes"); }
+
+std::vector<double> remap_p0(const Supermesh& s, std::span<const double> values, P0Normalization normalization) {
+  return p0<TetMesh>(s, values, normalization);
+}
+
+std::vector<double> remap_p1(const Supermesh& s, std::span<const double> values, P1RemapReport* report) {
+  return p1<TetMesh>(s, values, report);
+}
+
+void write_mixed_mass_matrix(const Supermesh& s, const std::filesystem::path& file) { write_mixed<TetMesh>(s, file); }
+
+double integral_p0(const TetMesh& mesh, std::span<const double> values) { return int_p0(mesh, values); }
+double integral_p1(const TetMesh& mesh, std::span<const double> values) { return int_p1(mesh, values); }
+
+std::vector<double> average_over_cells(const TetMesh& mesh, const std::function<double(Vec3)>& f) {
+  return averages(mesh, f);
+}
+
+double l2_error_p0(const TetMesh& mesh, std::span<const double> values, const std::function<double(Vec3)>& f) {
+  return err_p0(mesh, values, f);
+}
+
+double l2_error_p1(const TetMesh& mesh, std::span<const double> values, const std::function<double(Vec3)>& f) {
+  return err_p1(mesh, values, f);
+}
+
+// 2D
+
+std::vector<double> covered_areas(const Supermesh2& s) { return covered<TriMesh>(s, "covered_areas"); }
+
+std::vector<double> remap_p0(const Supermesh2& s, std::span<const double> values, P0Normalization normalization) {
+  return p0<TriMesh>(s, values, normalization);
+}
+
+std::vector<double> remap_p1(const Supermesh2& s, std::span<const double> values, P1RemapReport* report) {
+  return p1<TriMesh>(s, values, report);
+}
+
+void write_mixed_mass_matrix(const Supermesh2& s, const std::filesystem::path& file) { write_mixed<TriMesh>(s, file); }
+
+double integral_p0(const TriMesh& mesh, std::span<const double> values) { return int_p0(mesh, values); }
+double integral_p1(const TriMesh& mesh, std::span<const double> values) { return int_p1(mesh, values); }
+
+std::vector<double> average_over_cells(const TriMesh& mesh, const std::function<double(Vec2)>& f) {
+  return averages(mesh, f);
+}
+
+double l2_error_p0(const TriMesh& mesh, std::span<const double> values, const std::function<double(Vec2)>& f) {
+  return err_p0(mesh, values, f);
+}
+
+double l2_error_p1(const TriMesh& mesh, std::span<const double> values, const std::function<double(Vec2)>& f) {
+  return err_p1(mesh, values, f);
 }
 
 }  // namespace tetia

@@ -1,5 +1,13 @@
-// The intersection of two tetrahedral meshes: which (source cell, target cell) pairs overlap
-// with positive volume, found by an advancing front over face adjacency or by an R-tree.
+// The intersection of two tetrahedral meshes, or of two triangular ones: which (source cell,
+// target cell) pairs overlap with positive volume (area), found by an advancing front over facet
+// adjacency or by an R-tree.
+//
+// One implementation for both dimensions: everything below is a template over the mesh type
+// (src/dimension.hpp says what differs: the point and cell types, the kernel, volume or area);
+// the only dimension-specific function is faces_crossed, the certified side test. The text
+// speaks of tetrahedra, faces and volumes; in 2D read triangles, edges and areas (and "removing
+// segments" in the argument below becomes "removing points": it still does not disconnect an
+// open set of the plane).
 //
 // The front. Source cells are visited in breadth-first order over the source adjacency, within
 // a chunk of consecutive positions along a Morton curve through the cell centroids (a compact
@@ -68,48 +76,86 @@
 #include <boost/geometry.hpp>
 #include <boost/geometry/index/rtree.hpp>
 
+#include "dimension.hpp"
 #include "tetia/tet_intersection.hpp"
+#include "tetia/tri_intersection.hpp"
 
 namespace tetia {
 
-double Supermesh::intersection_volume() const {
-  // Neumaier's compensated sum: the total is compared with mesh volumes to 1e-13.
+namespace {
+
+// Neumaier's compensated sum of the pieces' measures: totals are compared with mesh volumes
+// (areas) to 1e-13.
+template <class Piece, class Measure>
+double compensated_total(const std::vector<Piece>& pieces, Measure&& measure) {
   double sum = 0.0, comp = 0.0;
   for (const auto& p : pieces) {
-    const double t = sum + p.volume;
-    comp += std::abs(sum) >= std::abs(p.volume) ? (sum - t) + p.volume : (p.volume - t) + sum;
+    const double v = measure(p);
+    const double t = sum + v;
+    comp += std::abs(sum) >= std::abs(v) ? (sum - t) + v : (v - t) + sum;
     sum = t;
   }
   return sum + comp;
+}
+
+}  // namespace
+
+double Supermesh::intersection_volume() const {
+  return compensated_total(pieces, [](const SupermeshPiece& p) { return p.volume; });
+}
+
+double Supermesh2::intersection_area() const {
+  return compensated_total(pieces, [](const SupermeshPiece2& p) { return p.area; });
 }
 
 namespace {
 
 namespace bg = boost::geometry;
 namespace bgi = boost::geometry::index;
-using BPoint = bg::model::point<double, 3, bg::cs::cartesian>;
-using BBox = bg::model::box<BPoint>;
-using RValue = std::pair<BBox, std::int32_t>;
-using RTree = bgi::rtree<RValue, bgi::quadratic<16>>;
 
+template <int D>
 struct Box {
-  std::array<double, 3> lo, hi;
+  std::array<double, D> lo, hi;
 };
 
-Box box_of(const Tet& t) {
-  Box b;
-  for (int k = 0; k < 3; ++k) {
+template <int D>
+struct Tree {
+  using BPoint = bg::model::point<double, D, bg::cs::cartesian>;
+  using BBox = bg::model::box<BPoint>;
+  using Value = std::pair<BBox, std::int32_t>;
+  using RTree = bgi::rtree<Value, bgi::quadratic<16>>;
+
+  static BPoint point(const std::array<double, D>& x) {
+    if constexpr (D == 3) {
+      return BPoint(x[0], x[1], x[2]);
+    } else {
+      return BPoint(x[0], x[1]);
+    }
+  }
+  static BBox bbox(const Box<D>& b) { return BBox(point(b.lo), point(b.hi)); }
+};
+
+template <class Mesh>
+Box<detail::Dim<Mesh>::d> box_of(const typename detail::Dim<Mesh>::Cell& t) {
+  using Dm = detail::Dim<Mesh>;
+  Box<Dm::d> b;
+  for (int k = 0; k < Dm::d; ++k) {
     const auto i = static_cast<std::size_t>(k);
-    b.lo[i] = std::min(std::min(t[0][k], t[1][k]), std::min(t[2][k], t[3][k]));
-    b.hi[i] = std::max(std::max(t[0][k], t[1][k]), std::max(t[2][k], t[3][k]));
+    b.lo[i] = b.hi[i] = Dm::coord(t[0], k);
+    for (std::size_t v = 1; v < t.size(); ++v) {
+      b.lo[i] = std::min(b.lo[i], Dm::coord(t[v], k));
+      b.hi[i] = std::max(b.hi[i], Dm::coord(t[v], k));
+    }
   }
   return b;
 }
 
 /// Interiors of the boxes overlap (necessary for an intersection of positive volume).
-inline bool overlap_open(const Box& a, const Box& b) {
-  return a.lo[0] < b.hi[0] && b.lo[0] < a.hi[0] && a.lo[1] < b.hi[1] && b.lo[1] < a.hi[1] &&
-         a.lo[2] < b.hi[2] && b.lo[2] < a.hi[2];
+template <int D>
+inline bool overlap_open(const Box<D>& a, const Box<D>& b) {
+  bool r = true;
+  for (std::size_t k = 0; k < D; ++k) r = r && a.lo[k] < b.hi[k] && b.lo[k] < a.hi[k];
+  return r;
 }
 
 // Bit k is set unless every vertex of S lies strictly on T's side of the plane of T's face k,
@@ -133,6 +179,30 @@ unsigned faces_crossed(const Tet& T, const Tet& S) {
     const int own = side(T[static_cast<std::size_t>(k)]);
     bool separated = own != 0;
     for (std::size_t i = 0; i < 4 && separated; ++i) separated = side(S[i]) == own;
+    if (!separated) mask |= 1u << k;
+  }
+  return mask;
+}
+
+// The same in 2D: bit k is set unless every vertex of S lies strictly on T's side of the line
+// of T's edge k, certified with Shewchuk's static error bound for orient2d (evaluated in his
+// order: both differences from the edge's first vertex, then the two products).
+unsigned faces_crossed(const Triangle& T, const Triangle& S) {
+  constexpr double kErrBound = 1e-15;  // > (3 + 16 eps) eps, Shewchuk's ccwerrboundA
+  unsigned mask = 0;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const Vec2& a = T[(k + 1) % 3];
+    const Vec2 B = T[(k + 2) % 3] - a;
+    const auto side = [&](const Vec2& p) {
+      const Vec2 D = p - a;
+      const double l = B.x * D.y, r = B.y * D.x;
+      const double v = l - r;
+      const double e = kErrBound * (std::abs(l) + std::abs(r));
+      return v > e ? 1 : (v < -e ? -1 : 0);
+    };
+    const int own = side(T[k]);
+    bool separated = own != 0;
+    for (std::size_t i = 0; i < 3 && separated; ++i) separated = side(S[i]) == own;
     if (!separated) mask |= 1u << k;
   }
   return mask;
@@ -169,10 +239,6 @@ void reserve_for_one_more(std::vector<T>& v) {
   if (v.size() == v.capacity()) reserve_huge(v, std::max<std::size_t>(1024, 2 * v.capacity()));
 }
 
-BBox to_bbox(const Box& b) {
-  return BBox(BPoint(b.lo[0], b.lo[1], b.lo[2]), BPoint(b.hi[0], b.hi[1], b.hi[2]));
-}
-
 // A source cell whose pieces found by the front add up to less than (1 - this) times its volume
 // goes to the R-tree (see the comment at the top: the coverage test).
 constexpr double kCoverageTolerance = 1e-12;
@@ -190,11 +256,13 @@ struct alignas(64) Chunk {  // aligned: threads fill neighbouring chunks
   std::size_t candidates = 0;
 };
 
+template <class Mesh>
 struct Shared {
-  const TetMesh& source;
-  const TetMesh& target;
-  const RTree& tree;
-  const std::vector<Box>& target_box;
+  using Dm = detail::Dim<Mesh>;
+  const Mesh& source;
+  const Mesh& target;
+  const typename Tree<Dm::d>::RTree& tree;
+  const std::vector<Box<Dm::d>>& target_box;
   const std::vector<std::uint8_t>& risky;  // target has a boundary face or a flat neighbour
   bool keep;
   // Per source cell, written only by the thread that owns its chunk.
@@ -209,12 +277,19 @@ struct Shared {
 
 // Per-thread work space, reused across chunks and cells. The pieces (and polyhedra) of all the
 // chunks a thread runs stay in its own storage until the final merge.
+template <class Mesh>
 class Worker {
- public:
-  explicit Worker(const Shared& sh) : sh_(sh), mark_(sh.target.num_cells(), 0) {}
+  using Dm = detail::Dim<Mesh>;
+  using Cell = typename Dm::Cell;
+  using Piece = typename Dm::Piece;
+  using Shape = typename Dm::Shape;
+  using TreeT = Tree<Dm::d>;
 
-  const std::vector<SupermeshPiece>& pieces() const { return pieces_; }
-  const std::vector<Polyhedron>& polyhedra() const { return polyhedra_; }
+ public:
+  explicit Worker(const Shared<Mesh>& sh) : sh_(sh), mark_(sh.target.num_cells(), 0) {}
+
+  const std::vector<Piece>& pieces() const { return pieces_; }
+  const std::vector<Shape>& shapes() const { return shapes_; }
 
   void run_chunk(Chunk& ch, int id, CandidateSearch search) {
     ch.worker = id;
@@ -286,21 +361,21 @@ class Worker {
     if (!overlap_open(sbox_, sh_.target_box[static_cast<std::size_t>(t)])) return false;
     ++candidates_;
     T_ = sh_.target.cell(static_cast<std::size_t>(t));
-    const double floor = kResolution * std::min(svol_, sh_.target.volumes[static_cast<std::size_t>(t)]);
-    Moments m;
+    const double floor = kResolution * std::min(svol_, Dm::measures(sh_.target)[static_cast<std::size_t>(t)]);
+    typename Dm::Moments m;
     if (sh_.keep) {
-      poly_ = intersect(S_, T_);
-      if (!(poly_.volume() > floor)) return false;
-      m = poly_.moments();
-      reserve_for_one_more(polyhedra_);
-      polyhedra_.push_back(poly_);
+      shape_ = intersect(S_, T_);
+      if (!(Dm::measure(shape_.moments()) > floor)) return false;
+      m = shape_.moments();
+      reserve_for_one_more(shapes_);
+      shapes_.push_back(shape_);
     } else {
       m = intersection_moments(S_, T_);
-      if (!(m.volume > floor)) return false;
+      if (!(Dm::measure(m) > floor)) return false;
     }
     reserve_for_one_more(pieces_);
-    pieces_.push_back(SupermeshPiece{s, t, m.volume, m.first});
-    covered_ += m.volume;
+    pieces_.push_back(Dm::piece(s, t, m));
+    covered_ += Dm::measure(m);
     if (sh_.risky[static_cast<std::size_t>(t)]) risky_hit_ = true;
     return true;
   }
@@ -314,7 +389,7 @@ class Worker {
       if (!test(s, t)) continue;
       const unsigned crossed = faces_crossed(T_, S_);
       const auto& nb = sh_.target.neighbors[static_cast<std::size_t>(t)];
-      for (std::size_t k = 0; k < 4; ++k)
+      for (std::size_t k = 0; k < nb.size(); ++k)
         if (crossed >> k & 1u) enqueue(nb[k]);
     }
   }
@@ -322,8 +397,8 @@ class Worker {
   // Every target whose bounding box overlaps s's, not yet tested.
   void rtree_pass(std::int32_t s) {
     hits_.clear();
-    sh_.tree.query(bgi::intersects(to_bbox(sbox_)), std::back_inserter(hits_));
-    for (const RValue& h : hits_)
+    sh_.tree.query(bgi::intersects(TreeT::bbox(sbox_)), std::back_inserter(hits_));
+    for (const auto& h : hits_)
       if (mark_[static_cast<std::size_t>(h.second)] != stamp_ + 1) test(s, h.second);
   }
 
@@ -334,8 +409,8 @@ class Worker {
     risky_hit_ = false;
     covered_ = 0.0;
     S_ = sh_.source.cell(static_cast<std::size_t>(s));
-    svol_ = sh_.source.volumes[static_cast<std::size_t>(s)];
-    sbox_ = box_of(S_);
+    svol_ = Dm::measures(sh_.source)[static_cast<std::size_t>(s)];
+    sbox_ = box_of<Mesh>(S_);
     sh_.piece_begin[static_cast<std::size_t>(s)] = pieces_.size();
   }
   void end_cell(std::int32_t s) {
@@ -357,7 +432,7 @@ class Worker {
     begin_cell(s);
     const std::size_t first = pieces_.size();
     const std::int32_t p = sh_.parent[static_cast<std::size_t>(s)];
-    const double full = (1.0 - kCoverageTolerance) * sh_.source.volumes[static_cast<std::size_t>(s)];
+    const double full = (1.0 - kCoverageTolerance) * svol_;
     const auto covered = [&] { return pieces_.size() > first && covered_ >= full; };
     bool complete = false;
     if (p >= 0) {
@@ -385,50 +460,97 @@ class Worker {
     end_cell(s);
   }
 
-  const Shared& sh_;
+  const Shared<Mesh>& sh_;
   std::vector<std::uint32_t> mark_;
   std::uint32_t stamp_ = 0;
   std::vector<std::int32_t> cand_, queue_;
   std::size_t head_ = 0;
-  std::vector<RValue> hits_;
-  std::vector<SupermeshPiece> pieces_;
-  std::vector<Polyhedron> polyhedra_;
+  std::vector<typename TreeT::Value> hits_;
+  std::vector<Piece> pieces_;
+  std::vector<Shape> shapes_;
   std::size_t candidates_ = 0;
   bool risky_hit_ = false;
   double covered_ = 0.0;  // volume of s's pieces found so far
-  Tet S_{};
-  Tet T_{};  // the target cell last tested
-  Box sbox_{};
+  Cell S_{};
+  Cell T_{};  // the target cell last tested
+  Box<Dm::d> sbox_{};
   double svol_ = 0.0;
-  Polyhedron poly_;
+  Shape shape_;
 };
 
-}  // namespace
+// The visiting order of the source cells: by the Morton code of their centroids (63 / d bits
+// per axis, 21 in 3D and 31 in 2D) in the bounding box of the mesh; `rank` is its inverse.
+template <class Mesh>
+void morton_order(const Mesh& source, std::vector<std::int32_t>& order, std::vector<std::int32_t>& rank) {
+  using Dm = detail::Dim<Mesh>;
+  constexpr int d = Dm::d;
+  constexpr int bits = 63 / d;
+  constexpr double top = static_cast<double>((std::uint64_t{1} << bits) - 1);
+  const std::size_t ns = source.num_cells();
+  Box<d> all = box_of<Mesh>(source.cell(0));
+  for (std::size_t c = 1; c < ns; ++c) {
+    const Box<d> b = box_of<Mesh>(source.cell(c));
+    for (std::size_t k = 0; k < d; ++k) {
+      all.lo[k] = std::min(all.lo[k], b.lo[k]);
+      all.hi[k] = std::max(all.hi[k], b.hi[k]);
+    }
+  }
+  std::vector<std::pair<std::uint64_t, std::int32_t>> keys(ns);
+  for (std::size_t c = 0; c < ns; ++c) {
+    const auto t = source.cell(c);
+    std::uint64_t key = 0;
+    std::uint64_t q[d];
+    for (int k = 0; k < d; ++k) {
+      const auto i = static_cast<std::size_t>(k);
+      double sum = Dm::coord(t[0], k);
+      for (std::size_t v = 1; v < t.size(); ++v) sum += Dm::coord(t[v], k);
+      const double centre = (1.0 / static_cast<double>(t.size())) * sum;
+      const double extent = all.hi[i] - all.lo[i];
+      const double f = extent > 0.0 ? (centre - all.lo[i]) / extent : 0.0;
+      q[i] = static_cast<std::uint64_t>(std::clamp(f, 0.0, 1.0) * top);
+    }
+    for (int b = bits - 1; b >= 0; --b)
+      for (int k = 0; k < d; ++k) key = (key << 1) | ((q[k] >> b) & 1u);
+    keys[c] = {key, static_cast<std::int32_t>(c)};
+  }
+  std::sort(keys.begin(), keys.end());
+  order.resize(ns);
+  rank.resize(ns);
+  for (std::size_t i = 0; i < ns; ++i) {
+    order[i] = keys[i].second;
+    rank[static_cast<std::size_t>(keys[i].second)] = static_cast<std::int32_t>(i);
+  }
+}
 
-Supermesh supermesh(const TetMesh& source, const TetMesh& target, const SupermeshOptions& options) {
+template <class Mesh>
+typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target, const SupermeshOptions& options) {
+  using Dm = detail::Dim<Mesh>;
+  using TreeT = Tree<Dm::d>;
   const auto t0 = std::chrono::steady_clock::now();
-  Supermesh out;
+  typename Dm::Result out;
   out.source = &source;
   out.target = &target;
   const std::size_t ns = source.num_cells(), nt = target.num_cells();
   if (ns == 0 || nt == 0) return out;
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
 
   // Target bounding boxes, the R-tree (packed: bulk loading), and risky targets.
-  std::vector<Box> target_box(nt);
+  std::vector<Box<Dm::d>> target_box(nt);
   std::vector<std::uint8_t> risky(nt, 0);
-  std::vector<RValue> values(nt);
+  std::vector<typename TreeT::Value> values(nt);
   const auto nt_i = static_cast<std::int64_t>(nt);
-#pragma omp parallel for schedule(static) num_threads(options.threads > 0 ? options.threads : omp_get_max_threads())
+  const auto& target_measures = Dm::measures(target);
+#pragma omp parallel for schedule(static) num_threads(threads)
   for (std::int64_t i = 0; i < nt_i; ++i) {
     const auto t = static_cast<std::size_t>(i);
-    target_box[t] = box_of(target.cell(t));
-    values[t] = {to_bbox(target_box[t]), static_cast<std::int32_t>(i)};
+    target_box[t] = box_of<Mesh>(target.cell(t));
+    values[t] = {TreeT::bbox(target_box[t]), static_cast<std::int32_t>(i)};
     std::uint8_t r = 0;
     for (const std::int32_t n : target.neighbors[t])
-      r |= static_cast<std::uint8_t>(n < 0 || !(target.volumes[static_cast<std::size_t>(n)] > 0.0));
+      r |= static_cast<std::uint8_t>(n < 0 || !(target_measures[static_cast<std::size_t>(n)] > 0.0));
     risky[t] = r;
   }
-  const RTree tree(values.begin(), values.end());
+  const typename TreeT::RTree tree(values.begin(), values.end());
   values = {};
 
   std::vector<std::uint8_t> state(ns, 0);
@@ -438,39 +560,10 @@ Supermesh supermesh(const TetMesh& source, const TetMesh& target, const Supermes
   // that a chunk is a compact region whatever the file's numbering (Gmsh numbers cells in no
   // spatial order; with chunks of consecutive indices the front then degenerates into R-tree
   // queries). The order depends on the mesh only: results stay identical for any thread count.
-  std::vector<std::int32_t> order(ns), rank(ns);
-  {
-    Box all = box_of(source.cell(0));
-    for (std::size_t c = 1; c < ns; ++c) {
-      const Box b = box_of(source.cell(c));
-      for (int k = 0; k < 3; ++k) {
-        all.lo[k] = std::min(all.lo[k], b.lo[k]);
-        all.hi[k] = std::max(all.hi[k], b.hi[k]);
-      }
-    }
-    std::vector<std::pair<std::uint64_t, std::int32_t>> keys(ns);
-    for (std::size_t c = 0; c < ns; ++c) {
-      const Tet t = source.cell(c);
-      std::uint64_t key = 0;
-      std::uint64_t q[3];
-      for (int k = 0; k < 3; ++k) {
-        const double centre = 0.25 * (t[0][k] + t[1][k] + t[2][k] + t[3][k]);
-        const double extent = all.hi[k] - all.lo[k];
-        const double f = extent > 0.0 ? (centre - all.lo[k]) / extent : 0.0;
-        q[k] = static_cast<std::uint64_t>(std::clamp(f, 0.0, 1.0) * 2097151.0);  // 21 bits
-      }
-      for (int b = 20; b >= 0; --b)
-        for (int k = 0; k < 3; ++k) key = (key << 1) | ((q[k] >> b) & 1u);
-      keys[c] = {key, static_cast<std::int32_t>(c)};
-    }
-    std::sort(keys.begin(), keys.end());
-    for (std::size_t i = 0; i < ns; ++i) {
-      order[i] = keys[i].second;
-      rank[static_cast<std::size_t>(keys[i].second)] = static_cast<std::int32_t>(i);
-    }
-  }
-  const Shared sh{source, target, tree, target_box, risky, options.keep_polyhedra,
-                  state, parent, piece_begin, piece_count, order, rank};
+  std::vector<std::int32_t> order, rank;
+  morton_order(source, order, rank);
+  const Shared<Mesh> sh{source, target, tree, target_box, risky, options.keep_polyhedra,
+                        state, parent, piece_begin, piece_count, order, rank};
 
   // Chunks of consecutive positions in that order; their number depends on the mesh only.
   constexpr std::size_t kChunkCells = 4096;
@@ -480,14 +573,13 @@ Supermesh supermesh(const TetMesh& source, const TetMesh& target, const Supermes
     chunks[c].begin = static_cast<std::int32_t>(ns * c / nchunks);
     chunks[c].end = static_cast<std::int32_t>(ns * (c + 1) / nchunks);
   }
-  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
   const auto nchunks_i = static_cast<std::int64_t>(nchunks);
-  std::vector<std::unique_ptr<Worker>> workers(static_cast<std::size_t>(threads));
+  std::vector<std::unique_ptr<Worker<Mesh>>> workers(static_cast<std::size_t>(threads));
 #pragma omp parallel num_threads(threads)
   {
     const int id = omp_get_thread_num();
     auto& w = workers[static_cast<std::size_t>(id)];
-    w = std::make_unique<Worker>(sh);
+    w = std::make_unique<Worker<Mesh>>(sh);
 #pragma omp for schedule(dynamic, 1)
     for (std::int64_t c = 0; c < nchunks_i; ++c) w->run_chunk(chunks[static_cast<std::size_t>(c)], id, options.search);
   }
@@ -537,11 +629,22 @@ Supermesh supermesh(const TetMesh& source, const TetMesh& target, const Supermes
     }
   }
   if (options.keep_polyhedra) {
-    reserve_huge(out.polyhedra, total);
-    for (const Ref& r : refs) out.polyhedra.push_back(workers[static_cast<std::size_t>(r.worker)]->polyhedra()[r.index]);
+    auto& shapes = Dm::shapes(out);
+    reserve_huge(shapes, total);
+    for (const Ref& r : refs) shapes.push_back(workers[static_cast<std::size_t>(r.worker)]->shapes()[r.index]);
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
+}
+
+}  // namespace
+
+Supermesh supermesh(const TetMesh& source, const TetMesh& target, const SupermeshOptions& options) {
+  return build(source, target, options);
+}
+
+Supermesh2 supermesh(const TriMesh& source, const TriMesh& target, const SupermeshOptions& options) {
+  return build(source, target, options);
 }
 
 }  // namespace tetia

@@ -1,15 +1,19 @@
 // tetia/io.hpp -- reading meshes (Gmsh files, through the Gmsh library), writing VTU and .msh,
-// and generating meshes with Gmsh.
+// and generating meshes with Gmsh; tetrahedral (3D) and triangular (2D) alike.
 //
-// Contract: read_mesh accepts .msh 2.2 and 4.1, ASCII and binary; it keeps the tetrahedra of
-// all physical groups (first-order, 4-node) and ignores other elements, counting them.
-// The result is finalized. Errors (missing file, unreadable file, no tetrahedra, bad data)
-// throw std::runtime_error with a message starting "tetia: FILE: ".
+// Contract: the readers accept .msh 2.2 and 4.1, ASCII and binary. read_mesh keeps the
+// tetrahedra of all physical groups (first-order, 4-node), read_tri_mesh the triangles
+// (first-order, 3-node), which must lie in a plane z = const (z is dropped); both ignore other
+// elements, counting them. A file's dimension is 3 if it has tetrahedra, else 2 if it has
+// triangles (mesh_dimension, read_any_mesh); a 3D mesh's boundary triangles are just ignored
+// elements. Results are finalized. Errors (missing file, unreadable file, no cells, bad data,
+// triangles off a plane) throw std::runtime_error with a message starting "tetia: FILE: ".
 #pragma once
 
 #include <cstddef>
 #include <filesystem>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "tetia/mesh.hpp"
@@ -29,21 +33,44 @@ struct Field {
 
 TetMesh read_mesh(const std::filesystem::path& file, MeshReadInfo* info = nullptr);
 
+/// A 2D mesh: the file's triangles (z dropped). Nodes by increasing tag, cells by increasing
+/// element tag, as read_mesh.
+TriMesh read_tri_mesh(const std::filesystem::path& file, MeshReadInfo* info = nullptr);
+
+/// 3 if the file has tetrahedra (of any order), else 2 if it has triangles, else an error.
+int mesh_dimension(const std::filesystem::path& file);
+
+/// Either mesh, by the file's dimension, read in one pass (what read_mesh or read_tri_mesh
+/// would return).
+using AnyMesh = std::variant<TetMesh, TriMesh>;
+AnyMesh read_any_mesh(const std::filesystem::path& file, MeshReadInfo* info = nullptr);
+
 /// Reads a named scalar field (node data or element data) from a .msh file written by Gmsh or
-/// write_msh; `on_cells` says which. Throws if the field is absent.
+/// write_msh, in the order of the nodes or cells of the file's dimension (read_mesh's for a 3D
+/// file, read_tri_mesh's for a 2D one); `on_cells` says which. Throws if the field is absent.
 std::vector<double> read_msh_field(const std::filesystem::path& file, const std::string& name, bool on_cells);
 
-/// ParaView's unstructured grid, ASCII, with cell and point data.
+/// ParaView's unstructured grid, ASCII, with cell and point data (triangles at z = 0).
 void write_vtu(const std::filesystem::path& file, const TetMesh& mesh, const std::vector<Field>& cell_data = {},
                const std::vector<Field>& point_data = {});
+void write_vtu(const std::filesystem::path& file, const TriMesh& mesh, const std::vector<Field>& cell_data = {},
+               const std::vector<Field>& point_data = {});
 
-/// Gmsh .msh 4.1 ASCII, with node and element data.
+/// Gmsh .msh 4.1 ASCII, with node and element data (triangles at z = 0).
 void write_msh(const std::filesystem::path& file, const TetMesh& mesh, const std::vector<Field>& cell_data = {},
+               const std::vector<Field>& point_data = {});
+void write_msh(const std::filesystem::path& file, const TriMesh& mesh, const std::vector<Field>& cell_data = {},
                const std::vector<Field>& point_data = {});
 
 /// Meshes generated with the Gmsh library at element size h.
 TetMesh generate_box(Vec3 lo, Vec3 hi, double h);
 TetMesh generate_ball(Vec3 center, double radius, double h);
 TetMesh generate_torus(Vec3 center, double major_radius, double minor_radius, double h);
+
+/// 2D meshes generated with the Gmsh library at element size h, in the plane z = 0.
+TriMesh generate_rectangle(Vec2 lo, Vec2 hi, double h);
+TriMesh generate_disk(Vec2 center, double radius, double h);
+/// A disk with a concentric hole: non-convex, not simply connected.
+TriMesh generate_annulus(Vec2 center, double inner_radius, double outer_radius, double h);
 
 }  // namespace tetia

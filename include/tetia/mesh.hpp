@@ -1,11 +1,15 @@
-// tetia/mesh.hpp -- unstructured tetrahedral meshes: nodes, cells, face adjacency, volumes.
+// tetia/mesh.hpp -- unstructured simplicial meshes: tetrahedral (TetMesh) and triangular
+// (TriMesh, in the plane): nodes, cells, facet adjacency, cell measures.
 //
-// Contract: a TetMesh is plain data (nodes and cells as node-index quadruples) plus what
-// `finalize` derives from it. `finalize` validates (node indices in range, finite
-// coordinates, at least one cell), reorients inverted cells (counted), reports zero-volume
-// cells (counted and kept: they intersect nothing), computes cell volumes and the face
-// adjacency in linear time. Errors throw std::runtime_error with a message naming the mesh
-// and the cell: "tetia: FILE: cell 17: node index 900 out of range".
+// Contract: a mesh is plain data (nodes and cells as node-index tuples) plus what `finalize`
+// derives from it. `finalize` validates (node indices in range, no repeated node in a cell,
+// finite coordinates, at least one cell, no facet in more than two cells), reorients inverted
+// cells (counted), reports zero-measure cells (counted and kept: they intersect nothing),
+// computes cell volumes (areas) and the facet adjacency (faces of tetrahedra, edges of
+// triangles) in linear time. Errors throw std::runtime_error with a message naming the mesh and
+// the cell: "tetia: FILE: cell 17: node index 900 out of range". Both dimensions share one
+// implementation and the same messages, except for the names of cells and facets ("no
+// tetrahedra" / "no triangles", "a face" / "an edge shared by more than two cells").
 #pragma once
 
 #include <array>
@@ -38,11 +42,39 @@ struct TetMesh {
   double total_volume() const;
 };
 
+/// A triangular mesh of a planar domain.
+struct TriMesh {
+  std::vector<Vec2> nodes;
+  std::vector<std::array<std::int32_t, 3>> cells;  ///< node indices, counter-clockwise after finalize
+
+  // Derived by finalize():
+  std::vector<std::array<std::int32_t, 3>> neighbors;  ///< cell across edge k (opposite vertex k), -1 on the boundary
+  std::vector<double> areas;                           ///< cell areas (>= 0)
+  std::size_t reoriented_cells = 0;                    ///< clockwise cells that were flipped
+  std::size_t flat_cells = 0;                          ///< zero-area cells (kept)
+
+  std::size_t num_nodes() const { return nodes.size(); }
+  std::size_t num_cells() const { return cells.size(); }
+  Triangle cell(std::size_t c) const {
+    const auto& v = cells[c];
+    return {nodes[static_cast<std::size_t>(v[0])], nodes[static_cast<std::size_t>(v[1])],
+            nodes[static_cast<std::size_t>(v[2])]};
+  }
+  double total_area() const;
+};
+
 /// Validates and derives adjacency and volumes; `name` is used in error messages (a file name).
 void finalize(TetMesh& mesh, const std::string& name = "mesh");
+/// The same for triangles: areas, edge adjacency, clockwise cells made counter-clockwise.
+void finalize(TriMesh& mesh, const std::string& name = "mesh");
 
 /// A structured mesh of n[0] x n[1] x n[2] cubes, each split into the six Kuhn tetrahedra
 /// (all sharing the cube's main diagonal), so faces match across cubes. Finalized.
 TetMesh make_kuhn_mesh(std::array<int, 3> n, Vec3 origin, Vec3 cube_size);
+
+/// A structured mesh of n[0] x n[1] rectangles, each split into two triangles along its
+/// diagonal from (0, 0) to (1, 1) (the 2D Kuhn split), so edges match across rectangles.
+/// Counter-clockwise, finalized.
+TriMesh make_structured_tri_mesh(std::array<int, 2> n, Vec2 origin, Vec2 cell_size);
 
 }  // namespace tetia

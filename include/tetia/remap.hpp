@@ -1,4 +1,5 @@
-// tetia/remap.hpp -- conservative transfer of fields between meshes on a supermesh.
+// tetia/remap.hpp -- conservative transfer of fields between meshes on a supermesh, for
+// tetrahedral (Supermesh of TetMesh) and triangular (Supermesh2 of TriMesh) meshes alike.
 //
 // Contract: P0 (cell averages) is the L2 projection onto piecewise constants: target value =
 // sum over pieces of (source value * piece volume) / target cell volume; it conserves the
@@ -17,6 +18,8 @@
 // the integral over the target equals the source integral over the overlap (to the solver
 // tolerance) whatever the coverage, and where the domains coincide linear fields are reproduced;
 // near the edge of a partial overlap the projection falls off towards zero.
+// In 2D read area for volume and polygon (triangulated by a fan) for polyhedron; the two
+// dimensions share one implementation (src/remap.cpp, templates over the dimension).
 #pragma once
 
 #include <filesystem>
@@ -60,5 +63,29 @@ double l2_error_p0(const TetMesh& mesh, std::span<const double> cell_values,
                    const std::function<double(Vec3)>& f);
 double l2_error_p1(const TetMesh& mesh, std::span<const double> node_values,
                    const std::function<double(Vec3)>& f);
+
+// ---------------------------------------------------------------------------------------------
+// The same for triangular meshes (2D): areas instead of volumes, a 16-point conical product
+// Gauss rule per triangle (exact for degree 6) instead of the 64-point one.
+
+std::vector<double> remap_p0(const Supermesh2& s, std::span<const double> source_cell_values,
+                             P0Normalization normalization = P0Normalization::cell_volume);
+
+/// Per target cell, the area the source mesh covers (the sum of its pieces' areas).
+std::vector<double> covered_areas(const Supermesh2& s);
+
+/// Needs the supermesh built with keep_polyhedra (the polygons).
+std::vector<double> remap_p1(const Supermesh2& s, std::span<const double> source_node_values,
+                             P1RemapReport* report = nullptr);
+
+void write_mixed_mass_matrix(const Supermesh2& s, const std::filesystem::path& file);
+
+double integral_p0(const TriMesh& mesh, std::span<const double> cell_values);
+double integral_p1(const TriMesh& mesh, std::span<const double> node_values);
+
+std::vector<double> average_over_cells(const TriMesh& mesh, const std::function<double(Vec2)>& f);
+
+double l2_error_p0(const TriMesh& mesh, std::span<const double> cell_values, const std::function<double(Vec2)>& f);
+double l2_error_p1(const TriMesh& mesh, std::span<const double> node_values, const std::function<double(Vec2)>& f);
 
 }  // namespace tetia

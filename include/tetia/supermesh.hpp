@@ -1,15 +1,17 @@
-// tetia/supermesh.hpp -- the intersection of two tetrahedral meshes.
+// tetia/supermesh.hpp -- the intersection of two tetrahedral meshes, or of two triangular ones.
 //
 // Contract: supermesh(source, target) returns every pair (source cell, target cell) whose
-// intersection has positive volume, with its volume and first moments, sorted by (target,
-// source); on request also the polyhedra. "Positive" is above the resolution of double
-// arithmetic: pieces of volume at most 1e-14 times the smaller cell's volume are dropped (there
-// the kernel cannot tell a sliver from a touching contact; such pieces are in practice 1e-30 of
-// a cell or less). Candidates are found by an advancing front over face adjacency, seeded per
+// intersection has positive volume (area, in 2D), with its volume (area) and first moments,
+// sorted by (target, source); on request also the polyhedra (polygons). "Positive" is above the
+// resolution of double arithmetic: pieces of volume (area) at most 1e-14 times the smaller
+// cell's volume (area) are dropped (there the kernel cannot tell a sliver from a touching
+// contact; such pieces are in practice 1e-30 of a cell or less). Candidates are found by an
+// advancing front over facet adjacency (faces of tetrahedra, edges of triangles), seeded per
 // connected region by an R-tree query, with an R-tree query for the cells the front cannot
 // vouch for (near the target boundary; linear complexity, robust to non-convex domains, holes,
-// several components, identical and face-sharing cells), or by a plain R-tree search; both give
-// the same pieces. Results are identical for any number of threads.
+// several components, identical and facet-sharing cells), or by a plain R-tree search; both
+// give the same pieces. Results are identical for any number of threads. Both dimensions run
+// the same code (src/supermesh.cpp, a template over the dimension) with their own kernel.
 #pragma once
 
 #include <cstddef>
@@ -17,6 +19,7 @@
 #include <vector>
 
 #include "tetia/mesh.hpp"
+#include "tetia/polygon.hpp"
 #include "tetia/polyhedron.hpp"
 
 namespace tetia {
@@ -26,7 +29,7 @@ enum class CandidateSearch { front, rtree };
 struct SupermeshOptions {
   CandidateSearch search = CandidateSearch::front;
   int threads = 0;              ///< 0: OpenMP's default
-  bool keep_polyhedra = false;  ///< fill Supermesh::polyhedra
+  bool keep_polyhedra = false;  ///< fill Supermesh::polyhedra (3D) or Supermesh2::polygons (2D)
 };
 
 struct SupermeshPiece {
@@ -46,5 +49,26 @@ struct Supermesh {
 };
 
 Supermesh supermesh(const TetMesh& source, const TetMesh& target, const SupermeshOptions& options = {});
+
+/// One piece of a 2D supermesh: a (source, target) pair of triangles whose intersection has
+/// positive area.
+struct SupermeshPiece2 {
+  std::int32_t source = -1, target = -1;
+  double area = 0.0;
+  Vec2 first{};  ///< first moments (integral of the position)
+};
+
+/// The supermesh of two triangular meshes.
+struct Supermesh2 {
+  const TriMesh* source = nullptr;
+  const TriMesh* target = nullptr;
+  std::vector<SupermeshPiece2> pieces;  ///< sorted by (target, source)
+  std::vector<Polygon> polygons;        ///< pieces[k]'s polygon (A = source cell, B = target cell), if kept
+  std::size_t candidates = 0;           ///< pairs handed to the kernel (the same for any number of threads)
+  double seconds = 0.0;
+  double intersection_area() const;
+};
+
+Supermesh2 supermesh(const TriMesh& source, const TriMesh& target, const SupermeshOptions& options = {});
 
 }  // namespace tetia
