@@ -84,7 +84,8 @@ int main(int argc, char** argv) {
   add_pairs_command(app, pairs);
 
   tetia::app::SupermeshCommand sm;
-  CLI::App* sm_cmd = app.add_subcommand("supermesh", "Intersect two tetrahedral meshes (.msh files)");
+  CLI::App* sm_cmd =
+      app.add_subcommand("supermesh", "Intersect two tetrahedral meshes, or two triangular ones (.msh files)");
   sm_cmd->add_option("source", sm.source, "Source mesh (.msh 2.2 or 4.1, ASCII or binary)")->required();
   sm_cmd->add_option("target", sm.target, "Target mesh")->required();
   sm_cmd->add_option("-o,--output", sm.output, "Write the supermesh (its tetrahedralization) as VTU");
@@ -92,8 +93,11 @@ int main(int argc, char** argv) {
   sm_cmd->add_option("--search", sm.search, "Candidate search: front (advancing front) or rtree")
       ->check(CLI::IsMember({"front", "rtree"}))
       ->capture_default_str();
-  sm_cmd->footer("Prints a JSON summary: source_cells, target_cells, candidates, pairs, source_volume,\n"
-                 "target_volume, intersection_volume, seconds.");
+  sm_cmd->footer("The dimension comes from the files: tetrahedra make a 3D mesh; without them,\n"
+                 "triangles (in a plane z = const) a 2D one. Both files must have the same dimension.\n"
+                 "Prints a JSON summary: dimension (3 or 2), source_cells, target_cells, candidates,\n"
+                 "pairs, seconds, and in 3D source_volume, target_volume, intersection_volume, in 2D\n"
+                 "source_area, target_area, intersection_area.");
 
   tetia::app::RemapCommand rm;
   CLI::App* rm_cmd = app.add_subcommand("remap", "Transfer a field conservatively from one mesh to another");
@@ -101,20 +105,30 @@ int main(int argc, char** argv) {
   rm_cmd->add_option("target", rm.target, "Target mesh (.msh)")->required();
   rm_cmd->add_option("--field", rm.field, "Name of a field stored in the source .msh (cell data for --order 0, "
                                           "node data for --order 1)");
-  rm_cmd->add_option("--expr", rm.expr, "An analytic field in x, y, z, e.g. \"sin(x)*y\" (muparser syntax)");
+  rm_cmd->add_option("--expr", rm.expr,
+                     "An analytic field in x, y, z (z = 0 in 2D), e.g. \"sin(x)*y\" (muparser syntax)");
   rm_cmd->add_option("--order", rm.order, "0: cell averages (P0); 1: continuous nodal (P1)")
       ->check(CLI::IsMember({0, 1}))
       ->capture_default_str();
   rm_cmd->add_option("-o,--output", rm.output, "Write the target mesh with the remapped field as VTU");
   rm_cmd->add_option("--matrix", rm.matrix, "Write the coupling (mixed mass) matrix in Matrix Market format");
   rm_cmd->add_option("--threads", rm.threads, "OpenMP threads (0: default)")->capture_default_str();
-  rm_cmd->footer("Prints a JSON summary with the integrals on both meshes, the conservation error and,\n"
-                 "with --expr, the L2 error of the remapped field.");
+  rm_cmd->footer("Meshes of either dimension (as for supermesh), both the same.\n"
+                 "Prints a JSON summary: dimension, order, source_cells, target_cells, pairs,\n"
+                 "source_volume, target_volume, intersection_volume (in 2D: source_area, target_area,\n"
+                 "intersection_area), source_integral, overlap_integral (the source integral over the\n"
+                 "overlap), target_integral, conservation_error (target against overlap integral,\n"
+                 "relative), l2_error and relative_l2_error (with --expr; else null), cg_iterations\n"
+                 "(P1), seconds (the supermesh).");
 
   tetia::app::DemoCommand demo;
-  CLI::App* demo_cmd = app.add_subcommand("demo", "The main job on built-in meshes (Gmsh box and ball)");
+  CLI::App* demo_cmd = app.add_subcommand(
+      "demo", "The main job on built-in meshes (Gmsh box and ball; with --dim 2 rectangle, disk, annulus)");
   demo_cmd->add_option("-o,--output-dir", demo.output_dir, "Where to write the VTU files")->capture_default_str();
-  demo_cmd->add_option("--size", demo.size, "Element size of the finer mesh")->capture_default_str();
+  demo_cmd->add_option("--size", demo.size, "Element size of the finer mesh (default 0.12 in 3D, 0.03 in 2D)");
+  demo_cmd->add_option("--dim", demo.dim, "3: tetrahedral meshes, 2: triangular meshes")
+      ->check(CLI::IsMember({2, 3}))
+      ->capture_default_str();
   demo_cmd->add_option("--threads", demo.threads, "OpenMP threads (0: default)")->capture_default_str();
 
   try {

@@ -1,4 +1,8 @@
-// app/mesh_commands.cpp -- `tetia supermesh`, `tetia remap`, `tetia demo`.
+// app/mesh_commands.cpp -- `tetia supermesh`, `tetia remap`, `tetia demo`, for tetrahedral (3D)
+// and triangular (2D) meshes alike: the dimension comes from the files (tetrahedra: 3, else
+// triangles: 2; read_any_mesh), both files must have the same one, and everything after reading
+// is one template over the mesh type. JSON keys follow the dimension: *_volume in 3D, *_area
+// in 2D, plus "dimension".
 #include "mesh_commands.hpp"
 
 #include <muParser.h>
@@ -10,8 +14,11 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <memory>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "pairs.hpp"
@@ -22,13 +29,40 @@
 namespace tetia::app {
 namespace {
 
-using Function = std::function<double(Vec3)>;
+// What the commands need to know about a dimension: its types and its words.
+template <class Mesh>
+struct Kind;
+template <>
+struct Kind<TetMesh> {
+  static constexpr int dim = 3;
+  using Point = Vec3;
+  using Result = Supermesh;
+  static constexpr const char* measure = "volume";  // the JSON keys' suffix
+  static constexpr const char* cells = "tetrahedra";
+  static const std::vector<double>& measures(const TetMesh& m) { return m.volumes; }
+  static double total(const TetMesh& m) { return m.total_volume(); }
+  static double total(const Supermesh& s) { return s.intersection_volume(); }
+  static double measure_of(const SupermeshPiece& p) { return p.volume; }
+};
+template <>
+struct Kind<TriMesh> {
+  static constexpr int dim = 2;
+  using Point = Vec2;
+  using Result = Supermesh2;
+  static constexpr const char* measure = "area";
+  static constexpr const char* cells = "triangles";
+  static const std::vector<double>& measures(const TriMesh& m) { return m.areas; }
+  static double total(const TriMesh& m) { return m.total_area(); }
+  static double total(const Supermesh2& s) { return s.intersection_area(); }
+  static double measure_of(const SupermeshPiece2& p) { return p.area; }
+};
 
 void progress(const std::string& what) {
   if (isatty(fileno(stderr))) std::fprintf(stderr, "tetia: %s\n", what.c_str());
 }
 
-// A field given as an expression in x, y, z (muparser syntax: sin, cos, exp, sqrt, ^, pi).
+// A field given as an expression in x, y, z (muparser syntax: sin, cos, exp, sqrt, ^, pi); in
+// 2D z is 0.
 class Expression {
  public:
   explicit Expression(const std::string& text) {
@@ -47,78 +81,114 @@ class Expression {
     x_ = p.x, y_ = p.y, z_ = p.z;
     return parser_.Eval();
   }
+  double operator()(Vec2 p) { return (*this)(Vec3{p.x, p.y, 0.0}); }
 
  private:
   mu::Parser parser_;
   double x_ = 0.0, y_ = 0.0, z_ = 0.0;
 };
 
-std::vector<double> node_values(const TetMesh& m, const Function& f) {
+template <class Mesh>
+using Function = std::function<double(typename Kind<Mesh>::Point)>;
+
+template <class Mesh>
+std::vector<double> node_values(const Mesh& m, const Function<Mesh>& f) {
   std::vector<double> v(m.num_nodes());
   for (std::size_t n = 0; n < m.num_nodes(); ++n) v[n] = f(m.nodes[n]);
   return v;
 }
 
-double integral(const TetMesh& m, const std::vector<double>& v, int order) {
+template <class Mesh>
+double integral(const Mesh& m, const std::vector<double>& v, int order) {
   return order == 0 ? integral_p0(m, v) : integral_p1(m, v);
 }
 
-double l2_error(const TetMesh& m, const std::vector<double>& v, int order, const Function& f) {
+template <class Mesh>
+double l2_error(const Mesh& m, const std::vector<double>& v, int order, const Function<Mesh>& f) {
   return order == 0 ? l2_error_p0(m, v, f) : l2_error_p1(m, v, f);
 }
 
-double l2_norm(const TetMesh& m, const Function& f) {
+template <class Mesh>
+double l2_norm(const Mesh& m, const Function<Mesh>& f) {
   return l2_error_p0(m, std::vector<double>(m.num_cells(), 0.0), f);
+}
+
+// Barycentric coordinates of c in the cell (weights of vertices 1..d; vertex 0 gets the rest).
+std::array<double, 3> bary_tail(const Tet& t, Vec3 c) {
+  const double d = orient3d(t[0], t[1], t[2], t[3]);
+  return {orient3d(t[0], c, t[2], t[3]) / d, orient3d(t[0], t[1], c, t[3]) / d, orient3d(t[0], t[1], t[2], c) / d};
+}
+std::array<double, 2> bary_tail(const Triangle& t, Vec2 c) {
+  const double d = orient2d(t[0], t[1], t[2]);
+  return {orient2d(t[0], c, t[2]) / d, orient2d(t[0], t[1], c) / d};
 }
 
 // The source field integrated over the overlap only, from the pieces: a P0 value times the
 // piece's volume, or a P1 field (linear on the source cell) at the piece's centroid times its
 // volume, which is exact for a linear function.
-double overlap_integral(const Supermesh& s, const std::vector<double>& v, int order) {
+template <class Mesh>
+double overlap_integral(const typename Kind<Mesh>::Result& s, const std::vector<double>& v, int order) {
   double sum = 0.0;
-  for (const SupermeshPiece& p : s.pieces) {
+  for (const auto& p : s.pieces) {
+    const double m = Kind<Mesh>::measure_of(p);
     if (order == 0) {
-      sum += v[static_cast<std::size_t>(p.source)] * p.volume;
+      sum += v[static_cast<std::size_t>(p.source)] * m;
       continue;
     }
-    if (!(p.volume > 0.0)) continue;
-    const Vec3 c = (1.0 / p.volume) * p.first;
-    const Tet t = s.source->cell(static_cast<std::size_t>(p.source));
+    if (!(m > 0.0)) continue;
+    const auto c = (1.0 / m) * p.first;
     const auto& n = s.source->cells[static_cast<std::size_t>(p.source)];
-    const double d = orient3d(t[0], t[1], t[2], t[3]);
-    const double l1 = orient3d(t[0], c, t[2], t[3]) / d, l2 = orient3d(t[0], t[1], c, t[3]) / d,
-                 l3 = orient3d(t[0], t[1], t[2], c) / d;
-    sum += p.volume * ((1.0 - l1 - l2 - l3) * v[n[0]] + l1 * v[n[1]] + l2 * v[n[2]] + l3 * v[n[3]]);
+    const auto l = bary_tail(s.source->cell(static_cast<std::size_t>(p.source)), c);
+    double rest = 1.0, value = 0.0;
+    for (std::size_t k = 0; k < l.size(); ++k) {
+      rest -= l[k];
+      value += l[k] * v[static_cast<std::size_t>(n[k + 1])];
+    }
+    sum += m * (rest * v[static_cast<std::size_t>(n[0])] + value);
   }
   return sum;
 }
 
-// The supermesh's pieces as tetrahedra, for ParaView: cell data "source", "target", "volume".
-void write_supermesh_vtu(const std::string& file, const Supermesh& s) {
-  TetMesh out;
-  std::vector<double> source, target, volume;
+// The supermesh's pieces as simplices, for ParaView: cell data "source", "target" and the
+// piece's volume (area).
+template <class Mesh>
+void write_supermesh_vtu(const std::string& file, const typename Kind<Mesh>::Result& s) {
+  Mesh out;
+  std::vector<double> source, target, measure;
+  const auto add = [&](std::size_t k, const auto& simplex) {
+    const auto base = static_cast<std::int32_t>(out.nodes.size());
+    typename std::remove_reference_t<decltype(out.cells)>::value_type cell{};
+    for (std::size_t v = 0; v < simplex.size(); ++v) {
+      out.nodes.push_back(simplex[v]);
+      cell[v] = base + static_cast<std::int32_t>(v);
+    }
+    out.cells.push_back(cell);
+    source.push_back(s.pieces[k].source);
+    target.push_back(s.pieces[k].target);
+    measure.push_back(Kind<Mesh>::measure_of(s.pieces[k]));
+  };
   for (std::size_t k = 0; k < s.pieces.size(); ++k) {
-    for (const Tet& t : s.polyhedra[k].tetrahedra()) {
-      const auto base = static_cast<std::int32_t>(out.nodes.size());
-      for (const Vec3& p : t) out.nodes.push_back(p);
-      out.cells.push_back({base, base + 1, base + 2, base + 3});
-      source.push_back(s.pieces[k].source);
-      target.push_back(s.pieces[k].target);
-      volume.push_back(s.pieces[k].volume);
+    if constexpr (Kind<Mesh>::dim == 3) {
+      for (const Tet& t : s.polyhedra[k].tetrahedra()) add(k, t);
+    } else {
+      for (const Triangle& t : s.polygons[k].triangles()) add(k, t);
     }
   }
-  write_vtu(file, out, {{"source", source}, {"target", target}, {"piece_volume", volume}});
+  write_vtu(file, out,
+            {{"source", source}, {"target", target}, {std::string("piece_") + Kind<Mesh>::measure, measure}});
 }
 
-void write_p0_matrix(const std::string& file, const Supermesh& s) {
+template <class Result>
+void write_p0_matrix(const std::string& file, const Result& s, const char* measure) {
   std::ofstream out(file);
   if (!out) throw std::runtime_error("tetia: " + file + ": cannot write");
   out << "%%MatrixMarket matrix coordinate real general\n"
-      << "% tetia P0 coupling matrix: entry (t, s) = volume of target cell t intersected with source cell s\n"
+      << "% tetia P0 coupling matrix: entry (t, s) = " << measure
+      << " of target cell t intersected with source cell s\n"
       << s.target->num_cells() << ' ' << s.source->num_cells() << ' ' << s.pieces.size() << '\n';
   char buf[64];
   for (const auto& p : s.pieces) {
-    std::snprintf(buf, sizeof buf, "%.17g", p.volume);
+    std::snprintf(buf, sizeof buf, "%.17g", Kind<std::remove_cvref_t<decltype(*s.source)>>::measure_of(p));
     out << p.target + 1 << ' ' << p.source + 1 << ' ' << buf << '\n';
   }
   if (!out) throw std::runtime_error("tetia: " + file + ": write failed");
@@ -136,19 +206,41 @@ std::string num(double v) {
   return buf;
 }
 
-// Loads a mesh, reporting progress and ignored elements.
-TetMesh load(const std::string& file) {
+int dimension_of(const AnyMesh& m) { return std::holds_alternative<TetMesh>(m) ? 3 : 2; }
+
+// Loads a mesh of either dimension, reporting progress, ignored elements, reoriented and flat
+// cells.
+AnyMesh load(const std::string& file) {
   progress("reading " + file);
   MeshReadInfo info;
-  TetMesh m = read_mesh(file, &info);
-  if (info.ignored_elements > 0)
-    progress(file + ": " + std::to_string(info.ignored_elements) + " non-tetrahedral elements ignored");
-  if (m.reoriented_cells > 0)
-    std::fprintf(stderr, "tetia: %s: %zu inverted cells reoriented\n", file.c_str(), m.reoriented_cells);
-  if (m.flat_cells > 0)
-    std::fprintf(stderr, "tetia: %s: %zu zero-volume cells kept (they intersect nothing)\n", file.c_str(),
-                 m.flat_cells);
-  return m;
+  AnyMesh any = read_any_mesh(file, &info);
+  std::visit(
+      [&](const auto& m) {
+        using K = Kind<std::remove_cvref_t<decltype(m)>>;
+        if (info.ignored_elements > 0)
+          progress(file + ": " + std::to_string(info.ignored_elements) + " elements other than " + K::cells +
+                   " ignored");
+        if (m.reoriented_cells > 0)
+          std::fprintf(stderr, "tetia: %s: %zu inverted cells reoriented\n", file.c_str(), m.reoriented_cells);
+        if (m.flat_cells > 0)
+          std::fprintf(stderr, "tetia: %s: %zu zero-%s cells kept (they intersect nothing)\n", file.c_str(),
+                       m.flat_cells, K::measure);
+      },
+      any);
+  return any;
+}
+
+// Both meshes, which must have the same dimension (a usage error otherwise: exit status 2).
+std::pair<AnyMesh, AnyMesh> load_pair(const std::string& source, const std::string& target) {
+  AnyMesh a = load(source), b = load(target);
+  if (dimension_of(a) != dimension_of(b)) {
+    const auto what = [](const AnyMesh& m) {
+      return dimension_of(m) == 3 ? std::string("a 3D mesh (tetrahedra)") : std::string("a 2D mesh (triangles)");
+    };
+    throw std::invalid_argument("tetia: " + source + " is " + what(a) + " but " + target + " is " + what(b) +
+                                "; both meshes must have the same dimension");
+  }
+  return {std::move(a), std::move(b)};
 }
 
 template <class Body>
@@ -167,28 +259,133 @@ int guarded(Body&& body) {
   }
 }
 
+template <class Mesh>
+int supermesh_command(const SupermeshCommand& cmd, const Mesh& source, const Mesh& target) {
+  using K = Kind<Mesh>;
+  SupermeshOptions options;
+  options.search = parse_search(cmd.search);
+  options.threads = cmd.threads;
+  options.keep_polyhedra = !cmd.output.empty();
+  progress("intersecting " + std::to_string(source.num_cells()) + " x " + std::to_string(target.num_cells()) +
+           " cells");
+  const auto s = supermesh(source, target, options);
+  if (!cmd.output.empty()) {
+    progress("writing " + cmd.output);
+    write_supermesh_vtu<Mesh>(cmd.output, s);
+  }
+  const std::string m = K::measure;
+  std::printf(
+      "{\"dimension\": %d, \"source_cells\": %zu, \"target_cells\": %zu, \"candidates\": %zu, \"pairs\": %zu, "
+      "\"source_%s\": %s, \"target_%s\": %s, \"intersection_%s\": %s, \"seconds\": %.6f}\n",
+      K::dim, source.num_cells(), target.num_cells(), s.candidates, s.pieces.size(), m.c_str(),
+      num(K::total(source)).c_str(), m.c_str(), num(K::total(target)).c_str(), m.c_str(), num(K::total(s)).c_str(),
+      s.seconds);
+  return exit_ok;
+}
+
+template <class Mesh>
+int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& target) {
+  using K = Kind<Mesh>;
+  std::vector<double> values;
+  std::unique_ptr<Expression> expr;
+  Function<Mesh> f;
+  if (!cmd.expr.empty()) {
+    expr = std::make_unique<Expression>(cmd.expr);
+    f = [&](typename K::Point p) { return (*expr)(p); };
+    values = cmd.order == 0 ? average_over_cells(source, f) : node_values(source, f);
+  } else {
+    values = read_msh_field(cmd.source, cmd.field, cmd.order == 0);
+  }
+  SupermeshOptions options;
+  options.threads = cmd.threads;
+  options.keep_polyhedra = cmd.order == 1;
+  const auto s = supermesh(source, target, options);
+  P1RemapReport report;
+  const std::vector<double> out = cmd.order == 0 ? remap_p0(s, values) : remap_p1(s, values, &report);
+  if (!cmd.matrix.empty()) {
+    if (cmd.order == 0) write_p0_matrix(cmd.matrix, s, K::measure);
+    else write_mixed_mass_matrix(s, cmd.matrix);
+  }
+  const std::string name = cmd.expr.empty() ? cmd.field : "field";
+  std::vector<Field> cell_data, point_data;
+  (cmd.order == 0 ? cell_data : point_data).push_back({name, out});
+  double error = -1.0, relative = -1.0;
+  if (f) {
+    const std::vector<double> exact = cmd.order == 0 ? average_over_cells(target, f) : node_values(target, f);
+    (cmd.order == 0 ? cell_data : point_data).push_back({"exact", exact});
+    error = l2_error(target, out, cmd.order, f);
+    const double norm = l2_norm(target, f);
+    relative = norm > 0.0 ? error / norm : error;
+  }
+  if (!cmd.output.empty()) write_vtu(cmd.output, target, cell_data, point_data);
+  // Conservation: the target integral against the source integral over the overlap (the
+  // whole source integral when the domains coincide).
+  const double src_int = integral(source, values, cmd.order);
+  const double tgt_int = integral(target, out, cmd.order);
+  const double overlap_int = overlap_integral<Mesh>(s, values, cmd.order);
+  const double conservation = std::abs(tgt_int - overlap_int) / std::max(std::abs(overlap_int), 1e-300);
+  const std::string m = K::measure;
+  std::printf(
+      "{\"dimension\": %d, \"order\": %d, \"source_cells\": %zu, \"target_cells\": %zu, \"pairs\": %zu, "
+      "\"source_%s\": %s, \"target_%s\": %s, \"intersection_%s\": %s, \"source_integral\": %s, "
+      "\"overlap_integral\": %s, \"target_integral\": %s, "
+      "\"conservation_error\": %.3e, \"l2_error\": %s, \"relative_l2_error\": %s, \"cg_iterations\": %d, "
+      "\"seconds\": %.6f}\n",
+      K::dim, cmd.order, source.num_cells(), target.num_cells(), s.pieces.size(), m.c_str(),
+      num(K::total(source)).c_str(), m.c_str(), num(K::total(target)).c_str(), m.c_str(), num(K::total(s)).c_str(),
+      num(src_int).c_str(), num(overlap_int).c_str(), num(tgt_int).c_str(), conservation,
+      f ? num(error).c_str() : "null", f ? num(relative).c_str() : "null", report.iterations, s.seconds);
+  return exit_ok;
+}
+
+// One demo case: two meshes remapped both ways, P0 and P1; rows of the table, VTU files.
+template <class Mesh>
+void demo_case(const std::string& name, const Mesh& a, const Mesh& b, bool same_domain, const Function<Mesh>& f,
+               const DemoCommand& cmd) {
+  namespace fs = std::filesystem;
+  using K = Kind<Mesh>;
+  const std::string stem = (fs::path(cmd.output_dir) / name.substr(0, name.find('/'))).string();
+  for (int dir = 0; dir < 2; ++dir) {
+    const Mesh& src = dir == 0 ? a : b;
+    const Mesh& tgt = dir == 0 ? b : a;
+    SupermeshOptions options;
+    options.threads = cmd.threads;
+    options.keep_polyhedra = true;
+    const auto s = supermesh(src, tgt, options);
+    // For the same domain the overlap is the mesh volume; for different domains it is not known
+    // exactly (curved, discretized), so no error is printed there.
+    const double vol_err = std::abs(K::total(s) - K::total(tgt)) / K::total(tgt);
+    for (int order = 0; order < 2; ++order) {
+      const std::vector<double> in = order == 0 ? average_over_cells(src, f) : node_values(src, f);
+      const std::vector<double> out = order == 0 ? remap_p0(s, in) : remap_p1(s, in);
+      const double oi = overlap_integral<Mesh>(s, in, order);
+      const double ti = integral(tgt, out, order);
+      // The L2 error is only meaningful where the target is covered: same-domain pairs.
+      const double rel = same_domain ? l2_error(tgt, out, order, f) / l2_norm(tgt, f) : 0.0;
+      char vol_col[32] = "-", l2_col[32] = "-";
+      if (same_domain) {
+        std::snprintf(vol_col, sizeof vol_col, "%.2e", vol_err);
+        std::snprintf(l2_col, sizeof l2_col, "%.3e", rel);
+      }
+      std::printf("%-9s %-5s %5d %9zu %9zu %9zu %8.3f %10.6f %10s %12.2e %11s\n", name.c_str(),
+                  dir == 0 ? "a->b" : "b->a", order, src.num_cells(), tgt.num_cells(), s.pieces.size(), s.seconds,
+                  K::total(s), vol_col, std::abs(ti - oi) / std::abs(oi), l2_col);
+      const std::string file = stem + (dir == 0 ? "_a_to_b" : "_b_to_a") + "_p" + std::to_string(order) + ".vtu";
+      std::vector<Field> cd, pd;
+      (order == 0 ? cd : pd).push_back({"remapped", out});
+      (order == 0 ? cd : pd).push_back({"exact", order == 0 ? average_over_cells(tgt, f) : node_values(tgt, f)});
+      write_vtu(file, tgt, cd, pd);
+    }
+  }
+}
+
 }  // namespace
 
 int run_supermesh(const SupermeshCommand& cmd) {
   return guarded([&] {
-    SupermeshOptions options;
-    options.search = parse_search(cmd.search);
-    options.threads = cmd.threads;
-    options.keep_polyhedra = !cmd.output.empty();
-    const TetMesh source = load(cmd.source), target = load(cmd.target);
-    progress("intersecting " + std::to_string(source.num_cells()) + " x " + std::to_string(target.num_cells()) +
-             " cells");
-    const Supermesh s = supermesh(source, target, options);
-    if (!cmd.output.empty()) {
-      progress("writing " + cmd.output);
-      write_supermesh_vtu(cmd.output, s);
-    }
-    std::printf(
-        "{\"source_cells\": %zu, \"target_cells\": %zu, \"candidates\": %zu, \"pairs\": %zu, "
-        "\"source_volume\": %s, \"target_volume\": %s, \"intersection_volume\": %s, \"seconds\": %.6f}\n",
-        source.num_cells(), target.num_cells(), s.candidates, s.pieces.size(), num(source.total_volume()).c_str(),
-        num(target.total_volume()).c_str(), num(s.intersection_volume()).c_str(), s.seconds);
-    return exit_ok;
+    const auto [source, target] = load_pair(cmd.source, cmd.target);
+    if (const auto* s3 = std::get_if<TetMesh>(&source)) return supermesh_command(cmd, *s3, std::get<TetMesh>(target));
+    return supermesh_command(cmd, std::get<TriMesh>(source), std::get<TriMesh>(target));
   });
 }
 
@@ -197,117 +394,45 @@ int run_remap(const RemapCommand& cmd) {
     if (cmd.order != 0 && cmd.order != 1) throw std::invalid_argument("tetia: --order must be 0 or 1");
     if (cmd.field.empty() == cmd.expr.empty())
       throw std::invalid_argument("tetia: give exactly one of --field NAME and --expr EXPRESSION");
-    const TetMesh source = load(cmd.source), target = load(cmd.target);
-    std::vector<double> values;
-    std::unique_ptr<Expression> expr;
-    Function f;
-    if (!cmd.expr.empty()) {
-      expr = std::make_unique<Expression>(cmd.expr);
-      f = [&](Vec3 p) { return (*expr)(p); };
-      values = cmd.order == 0 ? average_over_cells(source, f) : node_values(source, f);
-    } else {
-      values = read_msh_field(cmd.source, cmd.field, cmd.order == 0);
-    }
-    SupermeshOptions options;
-    options.threads = cmd.threads;
-    options.keep_polyhedra = cmd.order == 1;
-    const Supermesh s = supermesh(source, target, options);
-    P1RemapReport report;
-    const std::vector<double> out = cmd.order == 0 ? remap_p0(s, values) : remap_p1(s, values, &report);
-    if (!cmd.matrix.empty()) {
-      if (cmd.order == 0) write_p0_matrix(cmd.matrix, s);
-      else write_mixed_mass_matrix(s, cmd.matrix);
-    }
-    const std::string name = cmd.expr.empty() ? cmd.field : "field";
-    std::vector<Field> cell_data, point_data;
-    (cmd.order == 0 ? cell_data : point_data).push_back({name, out});
-    double error = -1.0, relative = -1.0;
-    if (f) {
-      const std::vector<double> exact = cmd.order == 0 ? average_over_cells(target, f) : node_values(target, f);
-      (cmd.order == 0 ? cell_data : point_data).push_back({"exact", exact});
-      error = l2_error(target, out, cmd.order, f);
-      const double norm = l2_norm(target, f);
-      relative = norm > 0.0 ? error / norm : error;
-    }
-    if (!cmd.output.empty()) write_vtu(cmd.output, target, cell_data, point_data);
-    // Conservation: the target integral against the source integral over the overlap (the
-    // whole source integral when the domains coincide).
-    const double src_int = integral(source, values, cmd.order);
-    const double tgt_int = integral(target, out, cmd.order);
-    const double overlap_int = overlap_integral(s, values, cmd.order);
-    const double conservation = std::abs(tgt_int - overlap_int) / std::max(std::abs(overlap_int), 1e-300);
-    std::printf(
-        "{\"order\": %d, \"source_cells\": %zu, \"target_cells\": %zu, \"pairs\": %zu, \"source_volume\": %s, "
-        "\"target_volume\": %s, \"intersection_volume\": %s, \"source_integral\": %s, \"overlap_integral\": %s, "
-        "\"target_integral\": %s, "
-        "\"conservation_error\": %.3e, \"l2_error\": %s, \"relative_l2_error\": %s, \"cg_iterations\": %d, "
-        "\"seconds\": %.6f}\n",
-        cmd.order, source.num_cells(), target.num_cells(), s.pieces.size(), num(source.total_volume()).c_str(),
-        num(target.total_volume()).c_str(), num(s.intersection_volume()).c_str(), num(src_int).c_str(),
-        num(overlap_int).c_str(), num(tgt_int).c_str(), conservation, f ? num(error).c_str() : "null", f ? num(relative).c_str() : "null",
-        report.iterations, s.seconds);
-    return exit_ok;
+    const auto [source, target] = load_pair(cmd.source, cmd.target);
+    if (const auto* s3 = std::get_if<TetMesh>(&source)) return remap_command(cmd, *s3, std::get<TetMesh>(target));
+    return remap_command(cmd, std::get<TriMesh>(source), std::get<TriMesh>(target));
   });
 }
 
 int run_demo(const DemoCommand& cmd) {
   return guarded([&] {
-    namespace fs = std::filesystem;
-    fs::create_directories(cmd.output_dir);
-    const double h = cmd.size;
-    const auto f = [](Vec3 p) { return std::sin(p.x) * std::cos(p.y) * std::exp(p.z); };
-    struct Case {
-      std::string name;
-      TetMesh a, b;
-    };
+    if (cmd.dim != 2 && cmd.dim != 3) throw std::invalid_argument("tetia: --dim must be 2 or 3");
+    std::filesystem::create_directories(cmd.output_dir);
+    const double h = cmd.size > 0.0 ? cmd.size : (cmd.dim == 3 ? 0.12 : 0.03);
     progress("generating meshes with Gmsh");
-    std::vector<Case> cases;
-    // Same domain, non-matching: conservation is exact up to rounding.
-    cases.push_back({"box/box", generate_box({0, 0, 0}, {1, 1, 1}, 1.6 * h), generate_box({0, 0, 0}, {1, 1, 1}, h)});
-    // Different domains: a ball cutting a box; what is conserved is the integral over the overlap.
-    cases.push_back({"ball/box", generate_ball({0.5, 0.5, 0.5}, 0.6, 1.3 * h), generate_box({0, 0, 0}, {1, 1, 1}, h)});
     std::printf("%-9s %-5s %5s %9s %9s %9s %8s %10s %10s %12s %11s\n", "meshes", "dir", "order", "src cells",
-                "tgt cells", "pairs", "seconds", "overlap", "vol. err", "conservation", "rel. L2 err");
-    for (auto& c : cases) {
-      const std::string stem = (fs::path(cmd.output_dir) / c.name.substr(0, c.name.find('/'))).string();
-      for (int dir = 0; dir < 2; ++dir) {
-        const TetMesh& src = dir == 0 ? c.a : c.b;
-        const TetMesh& tgt = dir == 0 ? c.b : c.a;
-        SupermeshOptions options;
-        options.threads = cmd.threads;
-        options.keep_polyhedra = true;
-        const Supermesh s = supermesh(src, tgt, options);
-        // For the same domain the overlap is the mesh volume; for the ball and box it is not known
-        // exactly (curved, discretized), so no error is printed there.
-        const double vol_err = std::abs(s.intersection_volume() - tgt.total_volume()) / tgt.total_volume();
-        for (int order = 0; order < 2; ++order) {
-          const std::vector<double> in = order == 0 ? average_over_cells(src, f) : node_values(src, f);
-          const std::vector<double> out = order == 0 ? remap_p0(s, in) : remap_p1(s, in);
-          const double oi = overlap_integral(s, in, order);
-          const double ti = integral(tgt, out, order);
-          // The L2 error is only meaningful where the target is covered: same-domain pairs.
-          const bool same_domain = c.name == "box/box";
-          const double rel = same_domain ? l2_error(tgt, out, order, f) / l2_norm(tgt, f) : 0.0;
-          char vol_col[32] = "-", l2_col[32] = "-";
-          if (same_domain) {
-            std::snprintf(vol_col, sizeof vol_col, "%.2e", vol_err);
-            std::snprintf(l2_col, sizeof l2_col, "%.3e", rel);
-          }
-          std::printf("%-9s %-5s %5d %9zu %9zu %9zu %8.3f %10.6f %10s %12.2e %11s\n", c.name.c_str(),
-                      dir == 0 ? "a->b" : "b->a", order, src.num_cells(), tgt.num_cells(), s.pieces.size(),
-                      s.seconds, s.intersection_volume(), vol_col, std::abs(ti - oi) / std::abs(oi), l2_col);
-          const std::string file = stem + (dir == 0 ? "_a_to_b" : "_b_to_a") + "_p" + std::to_string(order) + ".vtu";
-          std::vector<Field> cd, pd;
-          (order == 0 ? cd : pd).push_back({"remapped", out});
-          (order == 0 ? cd : pd).push_back({"exact", order == 0 ? average_over_cells(tgt, f) : node_values(tgt, f)});
-          write_vtu(file, tgt, cd, pd);
-        }
-      }
+                "tgt cells", "pairs", "seconds", "overlap", cmd.dim == 3 ? "vol. err" : "area err", "conservation",
+                "rel. L2 err");
+    if (cmd.dim == 3) {
+      const Function<TetMesh> f = [](Vec3 p) { return std::sin(p.x) * std::cos(p.y) * std::exp(p.z); };
+      // Same domain, non-matching: conservation is exact up to rounding.
+      demo_case<TetMesh>("box/box", generate_box({0, 0, 0}, {1, 1, 1}, 1.6 * h), generate_box({0, 0, 0}, {1, 1, 1}, h),
+                         true, f, cmd);
+      // Different domains: a ball cutting a box; what is conserved is the integral over the overlap.
+      demo_case<TetMesh>("ball/box", generate_ball({0.5, 0.5, 0.5}, 0.6, 1.3 * h),
+                         generate_box({0, 0, 0}, {1, 1, 1}, h), false, f, cmd);
+      std::printf("field: sin(x) cos(y) exp(z); VTU files in %s/ (open them in ParaView)\n", cmd.output_dir.c_str());
+    } else {
+      const Function<TriMesh> f = [](Vec2 p) { return std::sin(p.x) * std::cos(p.y); };
+      demo_case<TriMesh>("rect/rect", generate_rectangle({0, 0}, {1, 1}, 1.6 * h), generate_rectangle({0, 0}, {1, 1}, h),
+                         true, f, cmd);
+      demo_case<TriMesh>("disk/rect", generate_disk({0.5, 0.5}, 0.6, 1.3 * h), generate_rectangle({0, 0}, {1, 1}, h),
+                         false, f, cmd);
+      demo_case<TriMesh>("ring/rect", generate_annulus({0.5, 0.5}, 0.2, 0.6, 1.3 * h),
+                         generate_rectangle({0, 0}, {1, 1}, h), false, f, cmd);
+      std::printf("field: sin(x) cos(y); VTU files in %s/ (open them in ParaView)\n", cmd.output_dir.c_str());
     }
-    std::printf("field: sin(x) cos(y) exp(z); VTU files in %s/ (open them in ParaView)\n", cmd.output_dir.c_str());
-    std::printf("overlap: volume of the supermesh; vol. err: |overlap - mesh volume| / mesh volume (same domain)\n"
+    const char* m = cmd.dim == 3 ? "volume" : "area";
+    std::printf("overlap: %s of the supermesh; %s err: |overlap - mesh %s| / mesh %s (same domain)\n"
                 "conservation: |integral on the target - source integral over the overlap| / the latter\n"
-                "rel. L2 err: against the exact field, where the target is covered (same-domain pairs)\n");
+                "rel. L2 err: against the exact field, where the target is covered (same-domain pairs)\n",
+                m, cmd.dim == 3 ? "vol." : "area", m, m);
     return exit_ok;
   });
 }

@@ -1,6 +1,8 @@
 // app/mesh_commands.hpp -- `tetia supermesh`, `tetia remap` and `tetia demo`: the mesh side of
-// the command line. Each prints a JSON summary on stdout, progress on stderr when stderr is a
-// terminal, and returns an exit code (0 ok, 1 failure, 2 bad usage or bad input file).
+// the command line, for tetrahedral and triangular meshes (the dimension comes from the files;
+// two files of different dimensions are a usage error). Each prints a JSON summary on stdout,
+// progress on stderr when stderr is a terminal, and returns an exit code (0 ok, 1 failure, 2 bad
+// usage or bad input file).
 #pragma once
 
 #include <string>
@@ -22,8 +24,9 @@ struct RemapCommand {
 
 struct DemoCommand {
   std::string output_dir = "tetia-demo";
-  double size = 0.12;  // element size of the finer mesh
+  double size = 0.0;  // element size of the finer mesh; 0: 0.12 in 3D, 0.03 in 2D
   int threads = 0;
+  int dim = 3;  // 3: box and ball; 2: rectangle, disk and annulus
 };
 
 int run_supermesh(const SupermeshCommand& cmd);

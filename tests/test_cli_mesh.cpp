@@ -1,6 +1,7 @@
 // tests/test_cli_mesh.cpp -- `tetia supermesh`, `tetia remap` and `tetia demo` end to end: the
-// executable named by TETIA_CLI_PATH on meshes written here (Kuhn meshes through write_msh) and,
-// where ../shared is present, on the libsupermesh test meshes.
+// executable named by TETIA_CLI_PATH on meshes written here (Kuhn meshes and structured triangle
+// meshes through write_msh) and, where ../shared is present, on the libsupermesh test meshes.
+// 3D first, then 2D (the dimension detected from the files, mixed dimensions refused).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -70,6 +71,7 @@ class CliMeshTest : public ::testing::Test {
 TEST_F(CliMeshTest, SupermeshPrintsTheSummary) {
   const Result r = run("supermesh " + a_ + " " + b_);
   ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(json_number(r.out, "dimension"), 3);
   EXPECT_EQ(json_number(r.out, "source_cells"), 162);
   EXPECT_EQ(json_number(r.out, "target_cells"), 384);
   EXPECT_GT(json_number(r.out, "pairs"), 384);
@@ -145,6 +147,135 @@ TEST_F(CliMeshTest, DemoRunsAndWritesVtu) {
   int vtu = 0;
   for (const auto& e : fs::directory_iterator(out)) vtu += e.path().extension() == ".vtu";
   EXPECT_EQ(vtu, 8);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2D: triangular meshes
+
+class CliMesh2DTest : public CliMeshTest {
+ protected:
+  void SetUp() override {
+    CliMeshTest::SetUp();
+    // Two non-matching meshes of the unit square: 5x5 and 7x7 structured triangle meshes, the
+    // second with a P0 field "rho" = 2 and a P1 field "phi" = x.
+    a2_ = (dir_ / "a2.msh").string();
+    b2_ = (dir_ / "b2.msh").string();
+    const tetia::TriMesh a = tetia::make_structured_tri_mesh({5, 5}, {0, 0}, {0.2, 0.2});
+    const tetia::TriMesh b = tetia::make_structured_tri_mesh({7, 7}, {0, 0}, {1.0 / 7, 1.0 / 7});
+    std::vector<double> rho(b.num_cells(), 2.0), phi(b.num_nodes());
+    for (std::size_t n = 0; n < b.num_nodes(); ++n) phi[n] = b.nodes[n].x;
+    tetia::write_msh(a2_, a);
+    tetia::write_msh(b2_, b, {{"rho", rho}}, {{"phi", phi}});
+  }
+
+  std::string a2_, b2_;
+};
+
+TEST_F(CliMesh2DTest, SupermeshDetectsTheDimensionAndPrintsAreas) {
+  const Result r = run("supermesh " + a2_ + " " + b2_);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(json_number(r.out, "dimension"), 2);
+  EXPECT_EQ(json_number(r.out, "source_cells"), 50);
+  EXPECT_EQ(json_number(r.out, "target_cells"), 98);
+  EXPECT_GT(json_number(r.out, "pairs"), 98);
+  EXPECT_GE(json_number(r.out, "candidates"), json_number(r.out, "pairs"));
+  EXPECT_NEAR(json_number(r.out, "intersection_area"), 1.0, 1e-13);
+  EXPECT_NEAR(json_number(r.out, "source_area"), 1.0, 1e-13);
+  EXPECT_NEAR(json_number(r.out, "target_area"), 1.0, 1e-13);
+  EXPECT_EQ(r.out.find("volume"), std::string::npos) << r.out;
+  const Result rt = run("supermesh --search rtree --threads 1 " + a2_ + " " + b2_);
+  ASSERT_EQ(rt.status, 0) << rt.err;
+  EXPECT_EQ(json_number(rt.out, "pairs"), json_number(r.out, "pairs"));
+  EXPECT_EQ(json_number(rt.out, "intersection_area"), json_number(r.out, "intersection_area"));
+  // -o: the pieces' triangles.
+  const std::string vtu = (dir_ / "s2.vtu").string();
+  const Result o = run("supermesh " + a2_ + " " + b2_ + " -o " + vtu);
+  ASSERT_EQ(o.status, 0) << o.err;
+  const std::string text = tetia::testcli::read_file(vtu);
+  EXPECT_NE(text.find("Name=\"piece_area\""), std::string::npos);
+  // Every cell a VTK_TRIANGLE (type 5).
+  const auto types = text.find('>', text.find("Name=\"types\"")) + 1;
+  std::istringstream in(text.substr(types, text.find("</DataArray>", types) - types));
+  int count = 0, bad = 0;
+  for (int t; in >> t; ++count) bad += t != 5;
+  EXPECT_GT(count, 98);
+  EXPECT_EQ(bad, 0);
+}
+
+TEST_F(CliMesh2DTest, RemapP0OfAStoredFieldIsConservative) {
+  const Result r = run("remap " + b2_ + " " + a2_ + " --field rho --order 0 -o " + (dir_ / "r2.vtu").string() +
+                       " --matrix " + (dir_ / "m2.mtx").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(json_number(r.out, "dimension"), 2);
+  EXPECT_NEAR(json_number(r.out, "source_integral"), 2.0, 1e-12);
+  EXPECT_NEAR(json_number(r.out, "target_integral"), 2.0, 1e-12);
+  EXPECT_LE(json_number(r.out, "conservation_error"), 1e-13);
+  EXPECT_NEAR(json_number(r.out, "intersection_area"), 1.0, 1e-13);
+  EXPECT_NE(tetia::testcli::read_file(dir_ / "m2.mtx").find("area of target cell t"), std::string::npos);
+  EXPECT_NE(tetia::testcli::read_file(dir_ / "r2.vtu").find("Name=\"rho\""), std::string::npos);
+}
+
+TEST_F(CliMesh2DTest, RemapP1ReproducesALinearExpressionInXAndY) {
+  // z is 0 in 2D: "+ 5*z" changes nothing.
+  const Result r = run("remap " + a2_ + " " + b2_ + " --expr \"x + 2*y + 5*z\" --order 1 --matrix " +
+                       (dir_ / "p1.mtx").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_LE(json_number(r.out, "relative_l2_error"), 1e-10);
+  EXPECT_LE(json_number(r.out, "conservation_error"), 1e-12);
+  EXPECT_NEAR(json_number(r.out, "target_integral"), 1.5, 1e-12);
+  EXPECT_GT(json_number(r.out, "cg_iterations"), 0);
+  EXPECT_NE(tetia::testcli::read_file(dir_ / "p1.mtx").find("rows: 64 target nodes, columns: 36 source nodes"),
+            std::string::npos);
+  const Result f = run("remap " + b2_ + " " + a2_ + " --field phi --order 1");
+  ASSERT_EQ(f.status, 0) << f.err;
+  EXPECT_NEAR(json_number(f.out, "target_integral"), 0.5, 1e-12);
+  // P0 of a smooth expression: errors reported.
+  const Result e = run("remap " + a2_ + " " + b2_ + " --expr \"sin(x)*cos(y)\" --order 0");
+  ASSERT_EQ(e.status, 0) << e.err;
+  EXPECT_GT(json_number(e.out, "l2_error"), 0.0);
+  EXPECT_LT(json_number(e.out, "relative_l2_error"), 0.2);
+}
+
+TEST_F(CliMesh2DTest, MixedDimensionsAndFilesWithoutCellsAreErrors) {
+  Result r = run("supermesh " + a2_ + " " + b_);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("tetia: " + a2_ + " is a 2D mesh (triangles) but " + b_ + " is a 3D mesh (tetrahedra)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("same dimension"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "");
+  r = run("remap " + b_ + " " + a2_ + " --expr x --order 0");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("same dimension"), std::string::npos) << r.err;
+  // Only lines: neither dimension.
+  const fs::path lines = dir_ / "lines.msh";
+  std::ofstream(lines) << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n2\n1 0 0 0\n2 1 0 0\n$EndNodes\n"
+                          "$Elements\n1\n1 1 2 0 1 1 2\n$EndElements\n";
+  r = run("supermesh " + lines.string() + " " + a2_);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("tetia: " + lines.string() + ": no tetrahedra or triangles"), std::string::npos) << r.err;
+  r = run("remap " + a2_ + " " + b2_ + " --field nosuchfield --order 1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("no node field named nosuchfield"), std::string::npos) << r.err;
+}
+
+TEST_F(CliMesh2DTest, HelpDocumentsTheAreaKeys) {
+  const Result r = run("supermesh --help");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_NE(r.out.find("intersection_area"), std::string::npos) << r.out;
+  const Result m = run("remap --help");
+  EXPECT_NE(m.out.find("source_area"), std::string::npos) << m.out;
+}
+
+TEST_F(CliMesh2DTest, Demo2DRunsAndWritesVtu) {
+  const fs::path out = dir_ / "demo2";
+  const Result r = run("demo --dim 2 --size 0.15 -o " + out.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* name : {"rect/rect", "disk/rect", "ring/rect"}) EXPECT_NE(r.out.find(name), std::string::npos) << r.out;
+  int vtu = 0;
+  for (const auto& e : fs::directory_iterator(out)) vtu += e.path().extension() == ".vtu";
+  EXPECT_EQ(vtu, 12);
+  EXPECT_EQ(run("demo --dim 4").status, 2);
 }
 
 }  // namespace
