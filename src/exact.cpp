@@ -474,6 +474,7 @@ mpq_class area(const Triangle& t) {
 
 // Contract: the exact area of A ∩ B for closed A, B in any vertex order; 0 when they touch or
 // are disjoint or either is flat. Throws std::domain_error on a non-finite coordinate.
+// Reentrant: no shared state.
 mpq_class intersection_area(const Triangle& A, const Triangle& B) {
   check_finite(A);
   check_finite(B);

@@ -10,7 +10,8 @@
 //    intersection_moments(A, B).area, bit for bit (one code path), and intersect's first
 //    moments equal intersection_moments' first moments;
 //  - no vanishing: exact > 1e-14 max(|A|, |B|) (above the resolution of the arithmetic, see
-//    kResolution) implies a non-empty polygon of positive area; exact = 0 implies an area
+//    kResolution) implies a non-empty polygon of positive area (for tiny-in-big, built without
+//    perturbation, exact > 1e-14 min(|A|, |B|) already does); exact = 0 implies an area
 //    <= 1e-15 norm; touching from outside along a shared or collinear edge (and, on the exact
 //    lattice, every pair of exact area 0) gives exactly 0 and an empty polygon;
 //  - stats.inconsistencies == 0 on every call; area never negative or NaN;
@@ -112,6 +113,11 @@ void run_family(const char* name) {
     if (real && !(a > 0.0)) fail("vanished: exact > 1e-14 max(|A|,|B|) but intersect() area 0");
     if (real && !(afast > 0.0)) fail("vanished: exact > 1e-14 max(|A|,|B|) but intersection_area() 0");
     if (sgn(ex) > 0 && !real) ++sub_resolution;
+    // A tiny triangle's overlap with a big one is built exactly (no perturbation), so it must
+    // not vanish even when it is far below the big one's resolution: 1e-14 of the tiny area.
+    if (std::string(fam.name) == "TinyInBig" && exd > kResolution * std::min(areaA, areaB) &&
+        (P.empty() || !(a > 0.0)))
+      fail("vanished: tiny-in-big, exact > 1e-14 min(|A|,|B|) but the polygon is empty or area 0");
     if (sgn(ex) == 0 && !(a <= kZeroTol * norm)) fail("exact 0 but area > 1e-15 norm", fmt(a));
     if (c.exact_zero) {
       if (sgn(ex) != 0) fail("REFERENCE: touching from outside but exact area > 0", fmt(exd));
