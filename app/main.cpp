@@ -25,11 +25,13 @@ struct PairsCommand {
   std::string algorithm = "tetia";
   std::string format = "volume";
   std::string input = "-";
+  int dimension = 3;
 };
 
 void add_pairs_command(CLI::App& app, PairsCommand& cmd) {
   CLI::App* sub = app.add_subcommand(
-      "pairs", "Intersection volumes of tetrahedron pairs read from standard input");
+      "pairs", "Intersection volumes of tetrahedron pairs (areas of triangle pairs with --dim 2)\n"
+               "read from standard input");
   sub->footer(
       "Input: one pair per line, 24 numbers separated by blanks: U's four vertices (x y z\n"
       "each), then V's. Blank lines and lines starting with '#' are skipped.\n"
@@ -42,7 +44,11 @@ void add_pairs_command(CLI::App& app, PairsCommand& cmd) {
       "Algorithms: tetia, the robust algorithm of McCoid & Gander; clip, Sutherland-Hodgman\n"
       "clipping; pang, PANG-style points and convex hull; exact, GMP rationals rounded to the\n"
       "nearest double (slow).\n"
-      "Errors: a line that is not exactly 24 finite numbers stops the run with\n"
+      "With --dim 2: 12 numbers a line, triangle A's three vertices (x y each), then B's;\n"
+      "the output is the area; JSON objects have \"area\", \"corners\" (point, bary in B,\n"
+      "labels: the two lines, 0-2 edges of A and 3-5 edges of B, edge k opposite vertex k),\n"
+      "counter-clockwise, and \"touched_edges_of_b\".\n"
+      "Errors: a line that is not exactly 24 (12) finite numbers stops the run with\n"
       "'tetia: line N: <what is wrong>' on stderr and exit status 2; the lines before it\n"
       "have been printed.");
   sub->add_option("--algorithm", cmd.algorithm, "Which method computes the intersection")
@@ -50,6 +56,9 @@ void add_pairs_command(CLI::App& app, PairsCommand& cmd) {
       ->capture_default_str();
   sub->add_option("--format", cmd.format, "volume: one number per line; json: one object per line")
       ->check(CLI::IsMember({"volume", "json"}))
+      ->capture_default_str();
+  sub->add_option("--dim", cmd.dimension, "3: tetrahedron pairs, 2: triangle pairs")
+      ->check(CLI::IsMember({2, 3}))
       ->capture_default_str();
   sub->add_option("input", cmd.input, "Read this file instead of standard input ('-')")
       ->capture_default_str();
@@ -59,6 +68,7 @@ int run_pairs_command(const PairsCommand& cmd) {
   tetia::app::PairsOptions options;
   options.algorithm = *tetia::app::parse_algorithm(cmd.algorithm);  // checked by CLI11
   options.format = *tetia::app::parse_format(cmd.format);
+  options.dimension = cmd.dimension;
   if (cmd.input == "-") return tetia::app::run_pairs(options, stdin, stdout, stderr);
   std::FILE* in = std::fopen(cmd.input.c_str(), "rb");
   if (in == nullptr) {

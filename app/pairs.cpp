@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <exception>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -15,6 +16,7 @@
 #include "tetia/baselines.hpp"
 #include "tetia/exact.hpp"
 #include "tetia/tet_intersection.hpp"
+#include "tetia/tri_intersection.hpp"
 
 namespace tetia::app {
 
@@ -183,6 +185,49 @@ void put_polyhedron_json(Writer& w, long long line, const Polyhedron& p) {
   w.put("}\n");
 }
 
+Triangle triangle_from(const double* c) {
+  return {Vec2{c[0], c[1]}, Vec2{c[2], c[3]}, Vec2{c[4], c[5]}};
+}
+
+void put_polygon_json(Writer& w, long long line, const Polygon& p) {
+  w.put("{\"line\": ");
+  w.put_int(line);
+  w.put(", \"area\": ");
+  w.put_double(p.area(), true);
+  w.put(", \"corners\": [");
+  for (int i = 0; i < p.num_corners(); ++i) {
+    const PolygonCorner& c = p.corner(i);
+    if (i > 0) w.put(", ");
+    w.put("{\"point\": [");
+    w.put_double(c.point.x, true);
+    w.put(", ");
+    w.put_double(c.point.y, true);
+    w.put("], \"bary\": [");
+    for (std::size_t d = 0; d < 3; ++d) {
+      if (d > 0) w.put(", ");
+      w.put_double(c.bary[d], true);
+    }
+    w.put("], \"labels\": [");
+    w.put_int(c.labels[0]);
+    w.put(", ");
+    w.put_int(c.labels[1]);
+    w.put("]}");
+  }
+  w.put("], \"touched_edges_of_b\": ");
+  put_bits(w, p.touched_edges_of_b());
+  w.put("}\n");
+}
+
+double area_by(Algorithm a, const Triangle& A, const Triangle& B) {
+  switch (a) {
+    case Algorithm::tetia: return intersection_area(A, B);
+    case Algorithm::clip: return baselines::clip_area(A, B);
+    case Algorithm::pang: return baselines::pang_area(A, B);
+    case Algorithm::exact: return exact::intersection_area_double(A, B);
+  }
+  return 0.0;
+}
+
 double volume_by(Algorithm a, const Tet& U, const Tet& V) {
   switch (a) {
     case Algorithm::tetia: return intersection_volume(U, V);
@@ -211,24 +256,26 @@ int run_pairs(const PairsOptions& options, std::FILE* in, std::FILE* out, std::F
   reader.set_before_read([&w] { w.flush(); });
 
   std::array<double, 24> c{};
+  const bool planar = options.dimension == 2;
+  const std::span<double> numbers(c.data(), planar ? 12 : 24);
   std::string_view line;
   while (reader.next(line)) {
     if (is_blank_or_comment(line)) continue;
     const long long n = reader.line_number();
-    if (std::string what = parse_numbers(line, c); !what.empty()) {
+    if (std::string what = parse_numbers(line, numbers); !what.empty()) {
       return fail(w, err, exit_bad_input, "line " + std::to_string(n) + ": " + what);
     }
-    const Tet U = tet_from(c.data());
-    const Tet V = tet_from(c.data() + 12);
     try {
       if (options.format == Format::json && options.algorithm == Algorithm::tetia) {
-        put_polyhedron_json(w, n, intersect(U, V));
+        if (planar) put_polygon_json(w, n, intersect(triangle_from(c.data()), triangle_from(c.data() + 6)));
+        else put_polyhedron_json(w, n, intersect(tet_from(c.data()), tet_from(c.data() + 12)));
       } else {
-        const double v = volume_by(options.algorithm, U, V);
+        const double v = planar ? area_by(options.algorithm, triangle_from(c.data()), triangle_from(c.data() + 6))
+                                : volume_by(options.algorithm, tet_from(c.data()), tet_from(c.data() + 12));
         if (options.format == Format::json) {
           w.put("{\"line\": ");
           w.put_int(n);
-          w.put(", \"volume\": ");
+          w.put(planar ? ", \"area\": " : ", \"volume\": ");
           w.put_double(v, true);
           w.put("}\n");
         } else {

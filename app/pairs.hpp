@@ -1,8 +1,10 @@
-// app/pairs.hpp -- `tetia pairs`: intersection volumes of tetrahedron pairs read from a stream.
+// app/pairs.hpp -- `tetia pairs`: intersection volumes of tetrahedron pairs (or areas of
+// triangle pairs, dimension 2) read from a stream.
 //
-// Input: one pair per line, 24 numbers (U's four vertices x y z, then V's) separated by blanks;
-// blank lines and '#' comment lines are skipped. Output: one line per pair, either the volume
-// ("%.17g") or a JSON object. The first malformed line stops the run: everything before it has
+// Input: one pair per line, 24 numbers (U's four vertices x y z, then V's) or, in dimension 2,
+// 12 numbers (A's three vertices x y, then B's), separated by blanks; blank lines and '#'
+// comment lines are skipped. Output: one line per pair, either the volume or area ("%.17g") or
+// a JSON object. The first malformed line stops the run: everything before it has
 // been written and flushed, then "tetia: line N: <what>" goes to the error stream.
 #pragma once
 
@@ -25,6 +27,7 @@ std::optional<Format> parse_format(std::string_view name);
 struct PairsOptions {
   Algorithm algorithm = Algorithm::tetia;
   Format format = Format::volume;
+  int dimension = 3;  ///< 3: tetrahedra, 2: triangles
 };
 
 /// Exit codes of run_pairs (and of the CLI).

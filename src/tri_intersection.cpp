@@ -377,8 +377,15 @@ struct BarycentricMap {
 };
 
 struct Frame {
+  // Both triangles with their vertices in a canonical (lexicographic) order, so that the result
+  // does not depend on the order the caller lists them in, bit for bit; perm maps a canonical
+  // vertex index to the caller's.
+  Triangle a_canonical, b_canonical;
+  u8 a_perm[3], b_perm[3];
   const Triangle* sub;  // A's role in the paper (mapped to X)
   const Triangle* ref;  // B's role (mapped to Y)
+  const u8* sub_perm;
+  const u8* ref_perm;
   bool swapped;         // the caller's A is the reference
   bool x_ccw;           // X is counter-clockwise in the frame of Y
   double det2;          // det[r1 - r0, r2 - r0]
@@ -494,7 +501,23 @@ void corner_coordinates(const Frame& fr, KernelResult& r, TriIntersectionStats* 
 
 // Picks the reference (the better-conditioned triangle; ties broken by the coordinates, so that
 // (A, B) and (B, A) choose the same one) and computes X. False for flat or non-finite input.
-bool make_frame(const Triangle& A, const Triangle& B, Frame& fr, bool other_reference = false) {
+void canonical_order(const Triangle& t, Triangle& out, u8 (&perm)[3]) {
+  const auto less = [&t](int i, int j) { return t[i].x < t[j].x || (t[i].x == t[j].x && t[i].y < t[j].y); };
+  int o[3] = {0, 1, 2};
+  if (less(o[1], o[0])) std::swap(o[0], o[1]);
+  if (less(o[2], o[1])) std::swap(o[1], o[2]);
+  if (less(o[1], o[0])) std::swap(o[0], o[1]);
+  for (int k = 0; k < 3; ++k) {
+    out[static_cast<std::size_t>(k)] = t[static_cast<std::size_t>(o[k])];
+    perm[k] = static_cast<u8>(o[k]);
+  }
+}
+
+bool make_frame(const Triangle& A_in, const Triangle& B_in, Frame& fr, bool other_reference = false) {
+  canonical_order(A_in, fr.a_canonical, fr.a_perm);
+  canonical_order(B_in, fr.b_canonical, fr.b_perm);
+  const Triangle& A = fr.a_canonical;
+  const Triangle& B = fr.b_canonical;
   double detA, detB;
   const double qA = shape_quality(A, detA), qB = shape_quality(B, detB);
   if (!(qA > 0.0) || !(qB > 0.0) || !(qA < INFINITY) || !(qB < INFINITY)) return false;
@@ -508,6 +531,8 @@ bool make_frame(const Triangle& A, const Triangle& B, Frame& fr, bool other_refe
   fr.swapped = use_a;
   fr.sub = use_a ? &B : &A;
   fr.ref = use_a ? &A : &B;
+  fr.sub_perm = use_a ? fr.b_perm : fr.a_perm;
+  fr.ref_perm = use_a ? fr.a_perm : fr.b_perm;
   fr.det2 = use_a ? detA : detB;
   fr.det2_sub = use_a ? detB : detA;
   fr.x_ccw = (detA > 0.0) == (detB > 0.0);
@@ -536,6 +561,9 @@ bool run_kernel(const Frame& fr, KernelResult& res, TriIntersectionStats* stats)
     return true;
   }
   corner_coordinates<kMoments>(fr, res, stats);
+  // Corners that enclose no area (tangent triangles: a vertex on the other's edge from outside,
+  // coincident corners) are no intersection in the arithmetic used: the result is empty.
+  if (!(res.ref_area > 0.0)) res.num_corners = 0;
   return true;
 }
 
@@ -591,14 +619,16 @@ struct PolygonBuilder {
       if (rc.kind == detail2::kVertexOfX) out.point = s[rc.index];
       else if (rc.kind == detail2::kVertexOfY) out.point = r[rc.index];
       else out.point = r[0] + (rc.bary[1] * a1 + rc.bary[2] * a2);
-      int l0 = rc.in, l1 = rc.out;
+      // Kernel labels in canonical numbering -> the caller's vertex numbering of each triangle.
+      const auto to_caller = [&fr](int l) { return l < 3 ? int(fr.sub_perm[l]) : 3 + int(fr.ref_perm[l - 3]); };
+      int l0 = to_caller(rc.in), l1 = to_caller(rc.out);
       if (fr.swapped) {
         l0 = (l0 + 3) % 6;
         l1 = (l1 + 3) % 6;
       }
       out.labels = {static_cast<std::uint8_t>(std::min(l0, l1)), static_cast<std::uint8_t>(std::max(l0, l1))};
       if (!fr.swapped) {
-        for (int p = 0; p < 3; ++p) out.bary[static_cast<std::size_t>(p)] = rc.bary[p];
+        for (int p = 0; p < 3; ++p) out.bary[fr.ref_perm[p]] = rc.bary[p];
         continue;
       }
       // The reference was A, so B is X: its coordinates of a vertex of X or of a crossing on
@@ -621,7 +651,7 @@ struct PolygonBuilder {
         }
         for (double& v : b) v = sum > 0.0 ? v / sum : 1.0 / 3.0;
       }
-      for (int p = 0; p < 3; ++p) out.bary[static_cast<std::size_t>(p)] = b[p];
+      for (int p = 0; p < 3; ++p) out.bary[fr.sub_perm[p]] = b[p];  // B is X, canonically numbered
     }
     // Sides: between consecutive corners, on the line both carry (the one corner k leaves by).
     // A side on a line of B touches that edge; a side on an edge of A touches the edge of B

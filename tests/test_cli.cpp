@@ -381,4 +381,51 @@ TEST_F(CliTest, LargeInputCrossesBufferBoundaries) {
   expect_bad_line(input + "1 2 3\n", n + 1, static_cast<std::size_t>(n));
 }
 
+// --- Dimension 2: `tetia pairs --dim 2`, triangle pairs of 12 numbers ---------------------
+
+// The unit right triangle with itself, with a copy moved by (0.5, 0): overlap 1/8, and with a
+// triangle beyond its hypotenuse (touching at a vertex only: 0).
+const std::string kTriIdentical = "0 0 1 0 0 1   0 0 1 0 0 1";
+const std::string kTriShifted = "0 0 1 0 0 1   0.5 0 1.5 0 0.5 1";
+const std::string kTriTouching = "0 0 1 0 0 1   1 0 2 0 1 1";
+
+TEST_F(CliTest, Dim2AreasForEveryAlgorithm) {
+  const std::string input = kTriIdentical + "\n# comment\n" + kTriShifted + "\n" + kTriTouching + "\n";
+  for (const char* algorithm : {"tetia", "clip", "pang", "exact"}) {
+    SCOPED_TRACE(algorithm);
+    const auto out = pairs_ok(std::string("--dim 2 --algorithm ") + algorithm, input);
+    ASSERT_EQ(out.size(), 3u);
+    EXPECT_NEAR(to_double(out[0]), 0.5, 1e-15);
+    EXPECT_NEAR(to_double(out[1]), 0.125, 1e-15);
+    EXPECT_EQ(to_double(out[2]), 0.0);
+  }
+  // Dimension 3 stays the default, and reads 24 numbers.
+  expect_bad_line(kTriIdentical + "\n", 1, 0);
+}
+
+TEST_F(CliTest, Dim2JsonHasAreaCornersAndTouchedEdges) {
+  const auto out = pairs_ok("--dim 2 --format json", kTriShifted + "\n" + kTriTouching + "\n");
+  ASSERT_EQ(out.size(), 2u);
+  for (const std::string& obj : out) {
+    EXPECT_TRUE(JsonChecker(obj).valid()) << obj;
+    for (const char* key : {"\"line\"", "\"area\"", "\"corners\"", "\"touched_edges_of_b\""})
+      EXPECT_NE(obj.find(key), std::string::npos) << key << " missing in " << obj;
+    EXPECT_EQ(obj.find("\"volume\""), std::string::npos) << obj;
+  }
+  EXPECT_NE(out[0].find("\"labels\""), std::string::npos) << out[0];
+  EXPECT_NE(out[1].find("\"corners\": []"), std::string::npos) << out[1];
+  const auto ref = pairs_ok("--dim 2 --format json --algorithm exact", kTriShifted + "\n");
+  ASSERT_EQ(ref.size(), 1u);
+  EXPECT_EQ(ref[0], "{\"line\": 1, \"area\": 0.125}");
+}
+
+TEST_F(CliTest, Dim2BadLinesAndBadDimension) {
+  expect_bad_line(kTriIdentical + "\n0 0 1 0 0 1 0 0 1 0 0\n", 2, 1, "--dim 2");
+  expect_bad_line("0 0 1 0 0 1 0 0 1 0 0 nan\n", 1, 0, "--dim 2");
+  expect_bad_line(kTriIdentical + " 5\n", 1, 0, "--dim 2");
+  EXPECT_EQ(run("pairs --dim 4", kTriIdentical + "\n").status, 2);
+  const Result h = run("pairs --help");
+  EXPECT_NE(h.out.find("--dim"), std::string::npos) << h.out;
+}
+
 }  // namespace
