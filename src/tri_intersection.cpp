@@ -312,15 +312,18 @@ double orient2d_accurate(Vec2 a, Vec2 b, Vec2 c) {
 }
 
 // Conditioning of a triangle as a reference: |det| / (sum of squared edge lengths), scale
-// invariant, largest for the equilateral triangle, zero when flat. The determinant's sign is
-// certain when it exceeds Shewchuk's error bound for orient2d; below it, it is evaluated
-// accurately, so that a needle is neither reported with the wrong orientation nor called flat
-// when it is not (exactly collinear vertices give exactly zero: flat, empty result).
+// invariant, largest for the equilateral triangle, zero when flat. The determinant is returned
+// with a relative error below 1e-14: when Shewchuk's error bound for the plain evaluation,
+// (3 + 16 eps) eps times the permanent, does not guarantee that (a needle, whose vertices are
+// nearly collinear), it is evaluated accurately. A needle is then neither reported with the
+// wrong orientation nor called flat when it is not (exactly collinear vertices give exactly
+// zero: flat, empty result), and its area, which can scale the result (corner_coordinates),
+// keeps its digits.
 double shape_quality(const Triangle& t, double& det2) {
   const Vec2 e1 = t[1] - t[0], e2 = t[2] - t[0], e3 = t[2] - t[1];
   const double l = e1.x * e2.y, r = e1.y * e2.x;
   det2 = l - r;
-  if (!(std::abs(det2) > (3.0 + 16.0 * 0x1p-53) * 0x1p-53 * (std::abs(l) + std::abs(r))))
+  if (!(1e-14 * std::abs(det2) > (3.0 + 16.0 * 0x1p-53) * 0x1p-53 * (std::abs(l) + std::abs(r))))
     det2 = orient2d_accurate(t[0], t[1], t[2]);
   const double s = e1.x * e1.x + e1.y * e1.y + e2.x * e2.x + e2.y * e2.y + e3.x * e3.x + e3.y * e3.y;
   return std::abs(det2) / s;
@@ -415,7 +418,9 @@ void corner_coordinates(const Frame& fr, KernelResult& r, TriIntersectionStats* 
     } else {
       // Crossing of edge e with P_p: eq. (2) for the two other coordinates, with the decided
       // signs (both >= 0 for a corner) enforced as guardrails, then scaled to sum to 1 (they do
-      // up to rounding; the scaling keeps p exactly 0 and the corner exactly on P_p).
+      // up to rounding; the scaling keeps p exactly 0 and the corner exactly on P_p). Both are
+      // evaluated, not one and its complement, so that a crossing at a vertex of Y gets an
+      // exact zero (a collinear edge; touched_edges_of_b relies on it).
       const int e = k.index / 3, p = k.index % 3, i = kEdgeFrom[e], j = kEdgeTo[e];
       const double den = C[i][p] - C[j][p];
       double sum = 0.0;
@@ -439,9 +444,8 @@ void corner_coordinates(const Frame& fr, KernelResult& r, TriIntersectionStats* 
     }
   }
   r.sub_frame = std::abs(fr.det2_sub) < std::abs(fr.det2);
-  // The smaller triangle may be a needle whose plainly computed determinant has few correct
-  // digits; the area scales with it, so it is evaluated accurately.
-  r.frame_det = r.sub_frame ? orient2d_accurate((*fr.sub)[0], (*fr.sub)[1], (*fr.sub)[2]) : fr.det2;
+  // Both determinants are accurate to 1e-14 even for needles (shape_quality).
+  r.frame_det = r.sub_frame ? fr.det2_sub : fr.det2;
   // The fan's planar coordinates: (x, y) of Y, or the last two barycentric coordinates in X.
   double xy[KernelResult::kMaxCorners][2] = {};
   for (int k = 0; k < r.num_corners; ++k) {
