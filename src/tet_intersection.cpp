@@ -28,6 +28,14 @@
 
 #include "tetia/kernel_trace.hpp"
 
+// SSE2 is part of x86-64; elsewhere the same computations run as scalar loops.
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#define TETIA_KERNEL_SSE2 1
+#else
+#define TETIA_KERNEL_SSE2 0
+#endif
+
 namespace tetia {
 
 IntersectionStats& IntersectionStats::operator+=(const IntersectionStats& o) {
@@ -112,6 +120,59 @@ constexpr int kVertexLines[4][3][2] = {{{kLineOf[2][3], 1}, {kLineOf[1][3], 2}, 
                                        {{kLineOf[1][3], 0}, {kLineOf[0][3], 1}, {kLineOf[0][1], 3}},
                                        {{kLineOf[1][2], 0}, {kLineOf[0][2], 1}, {kLineOf[0][1], 2}}};
 
+// The pairs (y, x), y < x, of planes in the order of kLines, as 6-bit lane masks: for a sign
+// mask s, lane L of y[s] is bit y_L of s, lane L of x[s] is bit x_L of s.
+struct PairLanes {
+  u8 y[16], x[16];
+};
+constexpr PairLanes make_pair_lanes() {
+  PairLanes t{};
+  for (unsigned s = 0; s < 16; ++s) {
+    unsigned y = 0, x = 0;
+    for (int L = 0; L < 6; ++L) {
+      y |= ((s >> kLines[L][0]) & 1u) << L;
+      x |= ((s >> kLines[L][1]) & 1u) << L;
+    }
+    t.y[s] = static_cast<u8>(y);
+    t.x[s] = static_cast<u8>(x);
+  }
+  return t;
+}
+constexpr PairLanes kPairLanes = make_pair_lanes();
+
+// The order of an edge's crossings from its pairwise comparisons (order_edge_by_pairs): for
+// the crossed planes c and the comparisons yx (lane L set: P_y crossed before P_x; lanes of
+// pairs not both crossed are ignored), nibble p holds the crossed planes met before P_p (all
+// crossed planes when p is not crossed itself); kNotAnOrder when the comparisons are cyclic.
+// Each plane's rank is the number of planes before it; the ranks of the crossed planes must
+// be distinct for a total order.
+constexpr std::uint16_t kNotAnOrder = 0xFFFF;
+struct EdgeOrderTable {
+  std::uint16_t v[16][64];
+};
+constexpr EdgeOrderTable make_edge_order_table() {
+  EdgeOrderTable t{};
+  for (unsigned c = 0; c < 16; ++c)
+    for (unsigned yx = 0; yx < 64; ++yx) {
+      unsigned before[4] = {0, 0, 0, 0};  // before[p] bit q: P_p is crossed before P_q
+      for (int L = 0; L < 6; ++L) {
+        const int y = kLines[L][0], x = kLines[L][1];
+        if (!bit(c, x) || !bit(c, y)) continue;
+        if (bit(yx, L)) before[y] |= 1u << x;
+        else before[x] |= 1u << y;
+      }
+      unsigned ranks = 0, out = 0;  // one bit per rank taken
+      for (int p = 0; p < 4; ++p) {
+        const unsigned earlier = c & ~before[p] & ~(1u << p);
+        ranks |= unsigned(bit(c, p)) << kPopcount4[earlier];
+        out |= earlier << (4 * p);
+      }
+      t.v[c][yx] = ranks == (1u << kPopcount4[c]) - 1u ? static_cast<std::uint16_t>(out) : kNotAnOrder;
+    }
+  return t;
+}
+constexpr EdgeOrderTable kEdgeOrder = make_edge_order_table();
+
 }  // namespace
 
 // Corner kinds, in the order of the hierarchy of Section 3.
@@ -161,6 +222,16 @@ class Kernel {
       }
       sm_[i] = static_cast<u8>(m);
       pm_[i] = static_cast<u8>(pos);
+#if TETIA_KERNEL_SSE2
+      // Row i of C arranged for the pairs (y, x) of order_edge_by_pairs: the y-lanes are
+      // (0,0), (0,1), (1,2) and the x-lanes (1,2), (3,2), (3,3).
+      const __m128d r01 = _mm_loadu_pd(C[i]), r23 = _mm_loadu_pd(C[i] + 2);
+      lanes_[i][0] = _mm_unpacklo_pd(r01, r01);
+      lanes_[i][1] = r01;
+      lanes_[i][2] = _mm_shuffle_pd(r01, r23, 1);
+      lanes_[i][3] = _mm_shuffle_pd(r23, r23, 1);
+      lanes_[i][4] = _mm_unpackhi_pd(r23, r23);
+#endif
     }
   }
 
@@ -200,8 +271,8 @@ class Kernel {
     const int i = tet_edges[e][0], j = tet_edges[e][1];
     const unsigned crossed = unsigned(sm_[i] ^ sm_[j]);
     cross_[e] = static_cast<u8>(crossed);
-    if (!crossed) return;
     if (!stats_ && order_edge_by_pairs(e, i, j, crossed)) return;
+    if (!crossed) return;
     int sorted[4], n = 0, comparisons = 0;
     for (unsigned rest = crossed; rest; rest &= rest - 1) {
       const int x = std::countr_zero(rest);
@@ -220,7 +291,7 @@ class Kernel {
     for (int r = 0; r < n; ++r) {
       const unsigned b = 1u << sorted[r];
       const unsigned here = m | b;  // on P_p itself, p = 0: sign 1
-      em_[e][sorted[r]] = static_cast<u8>(here);
+      em_[e] = static_cast<std::uint16_t>(em_[e] | (here << (4 * sorted[r])));
       on_y |= unsigned(here == 0xFu) << sorted[r];
       m = (m & ~b) | (sm_[j] & b);
     }
@@ -239,32 +310,50 @@ class Kernel {
   // the comparisons are transitive this is the order the sort finds, so both paths give the
   // same signs; when rounding makes them cyclic (ranks collide), the sort above decides, as
   // the straight line principle requires. Returns false in that case.
+  //
+  // All six pairs are evaluated (those not both crossed are ignored by the table), as bit
+  // masks over the pairs in the order of kLines: the comparison of crosses_before for pair
+  // (y, x) is  (num == 0 || (num > 0) == sign y_i) == sign x_i.  kEdgeOrder then gives, for
+  // the crossed planes and the comparisons, the planes crossed before each plane (or that the
+  // comparisons are not a total order).
   bool order_edge_by_pairs(int e, int i, int j, unsigned crossed) {
-    // before[p] bit q: P_p is crossed before P_q. Pairs (y, x), y < x, in the sort's form.
-    unsigned before[4] = {0, 0, 0, 0};
-    for (int y = 0; y < 3; ++y)
-      for (int x = y + 1; x < 4; ++x) {
-        const unsigned both = bit(crossed, x) & bit(crossed, y);
-        const unsigned yx = unsigned(crosses_before(i, j, y, x)) & both;
-        const unsigned xy = (yx ^ 1u) & both;
-        before[y] |= yx << x;
-        before[x] |= xy << y;
-      }
-    unsigned ranks = 0;  // one bit per rank taken
-    const unsigned si = sm_[i], sj = sm_[j];
-    unsigned on_y = 0;
-    for (int p = 0; p < 4; ++p) {
-      const unsigned cp = bit(crossed, p);
-      const unsigned earlier = crossed & ~before[p] & ~(1u << p);  // crossed before p
-      ranks |= cp << kPopcount4[earlier];
-      // At the crossing with P_p: planes not crossed keep x_i's sign (Lemma 3), planes
-      // crossed later still have x_i's, planes crossed earlier have x_j's; p itself is 0.
-      const unsigned here = ((si & ~earlier) | (sj & earlier) | (1u << p)) & 0xFu;
-      em_[e][p] = static_cast<u8>(here);
-      on_y |= (cp & unsigned(here == 0xFu)) << p;
+    unsigned pos = 0, zero = 0;
+#if TETIA_KERNEL_SSE2
+    // Lanes (0,1),(0,2) | (0,3),(1,2) | (1,3),(2,3): the same products and difference per
+    // lane as the scalar loop below, two at a time.
+    const __m128d* a = lanes_[i];
+    const __m128d* b = lanes_[j];
+    const __m128d z = _mm_setzero_pd();
+    const __m128d n0 = _mm_sub_pd(_mm_mul_pd(b[2], a[0]), _mm_mul_pd(a[2], b[0]));
+    const __m128d n1 = _mm_sub_pd(_mm_mul_pd(b[3], a[1]), _mm_mul_pd(a[3], b[1]));
+    const __m128d n2 = _mm_sub_pd(_mm_mul_pd(b[4], a[2]), _mm_mul_pd(a[4], b[2]));
+    pos = unsigned(_mm_movemask_pd(_mm_cmpgt_pd(n0, z))) | unsigned(_mm_movemask_pd(_mm_cmpgt_pd(n1, z))) << 2 |
+          unsigned(_mm_movemask_pd(_mm_cmpgt_pd(n2, z))) << 4;
+    zero = unsigned(_mm_movemask_pd(_mm_cmpeq_pd(n0, z))) | unsigned(_mm_movemask_pd(_mm_cmpeq_pd(n1, z))) << 2 |
+           unsigned(_mm_movemask_pd(_mm_cmpeq_pd(n2, z))) << 4;
+#else
+    const double* ci = C_[i];
+    const double* cj = C_[j];
+    for (int L = 0; L < 6; ++L) {
+      const int y = kLines[L][0], x = kLines[L][1];
+      const double num = cj[x] * ci[y] - ci[x] * cj[y];
+      pos |= unsigned(num > 0.0) << L;
+      zero |= unsigned(num == 0.0) << L;
     }
-    if (ranks != (1u << kPopcount4[crossed]) - 1u) return false;  // not a total order
-    edge_corners_ |= on_y << (4 * e);
+#endif
+    const unsigned si = sm_[i];
+    const unsigned sign_x = zero | ~(pos ^ kPairLanes.y[si]);
+    const unsigned yx = ~(sign_x ^ kPairLanes.x[si]) & 63u;
+    const unsigned earlier = kEdgeOrder.v[crossed][yx];
+    if (earlier == kNotAnOrder) return false;
+    // At the crossing with P_p: planes not crossed keep x_i's sign (Lemma 3), planes crossed
+    // later still have x_i's, planes crossed earlier have x_j's; p itself is 0. As x_j's sign
+    // differs from x_i's exactly in the crossed planes, that is x_i's mask with the earlier
+    // planes flipped (one nibble per plane).
+    const unsigned here = ((si * 0x1111u) ^ earlier) | 0x8421u;
+    em_[e] = static_cast<std::uint16_t>(here);
+    const unsigned full = here & (here >> 1) & (here >> 2) & (here >> 3) & 0x1111u;  // nibble == 0xF
+    edge_corners_ |= (((full * 0x1248u) >> 12) & crossed) << (4 * e);  // bit 4p -> bit p
     return true;
   }
 
@@ -285,7 +374,7 @@ class Kernel {
         seg_lone_[f][p] = v[0];
         seg_j_[f][p] = v[1];
         seg_k_[f][p] = v[2];
-        const u8 m1 = em_[kEdgeOf[v[0]][v[1]]][p], m2 = em_[kEdgeOf[v[0]][v[2]]][p];
+        const u8 m1 = em(kEdgeOf[v[0]][v[1]], p), m2 = em(kEdgeOf[v[0]][v[2]], p);
         seg_m1_[f][p] = which ? m1 : u8{0};
         seg_m2_[f][p] = which ? m2 : u8{0};
       }
@@ -423,6 +512,7 @@ class Kernel {
   }
 
   void note_inconsistency() { consistent_ = false; }
+  u8 em(int e, int p) const { return static_cast<u8>((em_[e] >> (4 * p)) & 0xFu); }
 
   // --- corners ------------------------------------------------------------------------------
 
@@ -535,11 +625,14 @@ class Kernel {
   }
 
   double C_[4][4];
+#if TETIA_KERNEL_SSE2
+  __m128d lanes_[4][5];
+#endif
   u8 sm_[4];               // sign masks of the vertices of X
   u8 pm_[4];               // strict positivity masks (coordinate > 0)
   u8 cross_[6] = {0, 0, 0, 0, 0, 0};  // planes crossed by each edge (line 9)
   std::uint32_t edge_corners_ = 0;     // bit 4e + p: edge e ∩ P_p lies on Y
-  u8 em_[6][4] = {};          // sign mask at edge e ∩ P_p (read as 0 where none)
+  std::uint16_t em_[6] = {};  // sign mask at edge e ∩ P_p in nibble p (read as 0 where none)
   u8 seg_m1_[4][4], seg_m2_[4][4];
   u8 seg_lone_[4][4], seg_j_[4][4], seg_k_[4][4];
   u8 fexist_[4] = {0, 0, 0, 0};  // lines met by face f (bit L)
@@ -650,7 +743,7 @@ void Kernel::export_signs(KernelTrace& t) const {
     for (int p = 0; p < 4; ++p)
       for (int q = 0; q < 4; ++q)
         t.edge_sign[e][p][q] =
-            bit(cross_[e], p) && q != p ? static_cast<std::int8_t>(bit(em_[e][p], q)) : std::int8_t{-1};
+            bit(cross_[e], p) && q != p ? static_cast<std::int8_t>(bit(em(e, p), q)) : std::int8_t{-1};
   }
   const bool level2 = (sm_[0] | sm_[1] | sm_[2] | sm_[3]) == 0xF && (sm_[0] & sm_[1] & sm_[2] & sm_[3]) != 0xF;
   for (int f = 0; f < 4; ++f)
