@@ -173,6 +173,36 @@ constexpr EdgeOrderTable make_edge_order_table() {
 }
 constexpr EdgeOrderTable kEdgeOrder = make_edge_order_table();
 
+// Bit p of a 4-bit mask spread to nibble p (0xF); bit L of a 6-bit mask to nibble L (0xF).
+struct SpreadTables {
+  std::uint16_t nibbles[16];
+  std::uint32_t lines[64];
+};
+constexpr SpreadTables make_spread_tables() {
+  SpreadTables t{};
+  for (unsigned m = 0; m < 16; ++m)
+    for (int p = 0; p < 4; ++p) t.nibbles[m] = static_cast<std::uint16_t>(t.nibbles[m] | (bit(m, p) ? 0xFu << (4 * p) : 0u));
+  for (unsigned m = 0; m < 64; ++m)
+    for (int L = 0; L < 6; ++L) t.lines[m] |= (bit(m, L) ? 0xFu : 0u) << (4 * L);
+  return t;
+}
+constexpr SpreadTables kSpread = make_spread_tables();
+constexpr const std::uint16_t (&kNibbles)[16] = kSpread.nibbles;
+constexpr const std::uint32_t (&kLineNibbles)[64] = kSpread.lines;
+
+// For each triple (vertex t of Y), the bits 4 line + c of its three slots' coordinates c.
+struct TripleBits {
+  std::uint32_t v[4];
+};
+constexpr TripleBits make_triple_bits() {
+  TripleBits b{};
+  for (int t = 0; t < 4; ++t)
+    for (int s = 0; s < 3; ++s) b.v[t] |= 1u << (4 * kTriples[t].line[s] + kTriples[t].slot[s][2]);
+  return b;
+}
+constexpr TripleBits kTripleBitsTable = make_triple_bits();
+constexpr const std::uint32_t (&kTripleBits)[4] = kTripleBitsTable.v;
+
 }  // namespace
 
 // Corner kinds, in the order of the hierarchy of Section 3.
@@ -361,38 +391,41 @@ class Kernel {
 
   // The segment (face f) ∩ P_a runs between the crossings of two edges of f with P_a; those
   // edges share the face's lone vertex in coordinate a (Proposition 1 for a triangle).
-  // seg_m1_/seg_m2_ are the sign masks at its two endpoints, zero when there is no segment.
+  // seg1_/seg2_ hold the sign masks at its two endpoints in nibble a, zero when there is no
+  // segment. For face (u, v, w) and plane P_p the lone vertex is v when only u and v differ in
+  // p-sign, w when only u and w differ, and u when both do; the endpoints are then on the
+  // edges (v u, v w), (w u, w v) and (u v, u w): the same choice as kSegmentVerts, four planes
+  // at a time.
   void build_segments() {
     for (int f = 0; f < 4; ++f) {
-      const int a = kFaceVerts[f][0], b = kFaceVerts[f][1], c = kFaceVerts[f][2];
-      const unsigned x = sm_[a] ^ sm_[b], y = sm_[a] ^ sm_[c];
-      for (int p = 0; p < 4; ++p) {
-        // Which vertex is alone in its p-sign: none (0), b (1: only a-b differ... and b-c),
-        // c (2), or a (3).
-        const int which = int(bit(x, p)) | (int(bit(y, p)) << 1);
-        const auto& v = kSegmentVerts[f][which];
-        seg_lone_[f][p] = v[0];
-        seg_j_[f][p] = v[1];
-        seg_k_[f][p] = v[2];
-        const u8 m1 = em(kEdgeOf[v[0]][v[1]], p), m2 = em(kEdgeOf[v[0]][v[2]], p);
-        seg_m1_[f][p] = which ? m1 : u8{0};
-        seg_m2_[f][p] = which ? m2 : u8{0};
-      }
+      const int u = kFaceVerts[f][0], v = kFaceVerts[f][1], w = kFaceVerts[f][2];
+      const unsigned x = kNibbles[sm_[u] ^ sm_[v]], y = kNibbles[sm_[u] ^ sm_[w]];
+      const unsigned uv = em_[kEdgeOf[u][v]], uw = em_[kEdgeOf[u][w]], vw = em_[kEdgeOf[v][w]];
+      seg1_[f] = static_cast<std::uint16_t>((uv & x) | (uw & ~x & y));
+      seg2_[f] = static_cast<std::uint16_t>((vw & (x ^ y)) | (uw & x & y));
     }
   }
 
+  // The segment's vertices as kSegmentVerts lists them: lone vertex, then the other two.
+  const u8* seg_verts(int f, int p) const {
+    const int u = kFaceVerts[f][0], v = kFaceVerts[f][1], w = kFaceVerts[f][2];
+    const int which = int(bit(sm_[u] ^ sm_[v], p)) | (int(bit(sm_[u] ^ sm_[w], p)) << 1);
+    return kSegmentVerts[f][which];
+  }
+  u8 seg_m1(int f, int p) const { return static_cast<u8>((seg1_[f] >> (4 * p)) & 0xFu); }
+  u8 seg_m2(int f, int p) const { return static_cast<u8>((seg2_[f] >> (4 * p)) & 0xFu); }
+
   // Line 18: face f meets line P_a ∩ P_b iff the endpoints of (f ∩ P_a) differ in b-sign.
   // Seen from P_b the answer must be the same (first part of the proof of Theorem 6).
+  // With d = seg1_ ^ seg2_ (bit 4a + b: the endpoints in P_a differ in b-sign), line L = (a, b)
+  // reads bit 4a + b from P_a and bit 4b + a from P_b.
   void face_line_flags() {
     for (int f = 0; f < 4; ++f) {
-      unsigned d[4];
-      for (int p = 0; p < 4; ++p) d[p] = unsigned(seg_m1_[f][p] ^ seg_m2_[f][p]);
-      unsigned from_low = 0, from_high = 0;
-      for (int L = 0; L < 6; ++L) {
-        const int a = kLines[L][0], b = kLines[L][1];
-        from_low |= ((d[a] >> b) & 1u) << L;
-        from_high |= ((d[b] >> a) & 1u) << L;
-      }
+      const unsigned d = unsigned(seg1_[f] ^ seg2_[f]);
+      // Bits 1, 2, 3, 6, 7, 11 and 4, 8, 12, 9, 13, 14 to bits 0-5 (lines in kLines order).
+      const unsigned from_low = ((d >> 1) & 0x7u) | ((d >> 3) & 0x18u) | ((d >> 6) & 0x20u);
+      const unsigned from_high =
+          ((d >> 4) & 0x1u) | ((d >> 7) & 0x2u) | ((d >> 10) & 0x4u) | ((d >> 6) & 0x8u) | ((d >> 9) & 0x30u);
       if (stats_ && from_low != from_high) note_inconsistency();
       fexist_[f] = static_cast<u8>(from_low & from_high);
     }
@@ -403,7 +436,7 @@ class Kernel {
   // c-crossing satisfy  sign(c_ab) ⊗ sign(b_ac) = sign(c at E1) ⊗ sign(b at E2),  for the two
   // endpoints E1, E2 of the segment (Lemma 2 one dimension down). Returns the right side.
   bool pairing(int f, int a, int b, int c) const {
-    return bit(seg_m1_[f][a], c) == bit(seg_m2_[f][a], b);
+    return bit(seg_m1(f, a), c) == bit(seg_m2(f, a), b);
   }
 
   // 3x3 determinant of columns (c, a, b) over rows (i, j, k) of C: the numerator of eq. (5).
@@ -421,9 +454,10 @@ class Kernel {
   // sign(b_a^{ij}) ⊗ sign(a_j - a_i). This keeps the new sign consistent with the previous
   // level even when the face is nearly parallel to the line.
   bool direct_sign(int f, int a, int b, int c) const {
-    const int i = seg_lone_[f][a], j = seg_j_[f][a], k = seg_k_[f][a];
+    const u8* v = seg_verts(f, a);
+    const int i = v[0], j = v[1], k = v[2];
     const double num = numerator5(c, a, b, i, j, k);
-    const bool det_1ba = bit(seg_m1_[f][a], b) == bit(sm_[j], a);
+    const bool det_1ba = bit(seg_m1(f, a), b) == bit(sm_[j], a);
     const bool den_positive = !det_1ba;  // det[1 a b] = -det[1 b a]
     return num == 0.0 || ((num > 0.0) == den_positive);
   }
@@ -431,41 +465,35 @@ class Kernel {
   // Signs of the coordinates of the face-line intersections of face f. A coordinate c of
   // F(f, {a, b}) is inherited when either parent pair agrees in it, that is when the segment
   // (f ∩ P_a) or (f ∩ P_b) does not cross P_c; as masks, all of a face's inheritances are a few
-  // bit operations. What is left is decided one triple at a time (resolve_triple).
+  // bit operations, for the six lines at once (nibble L of fsign_[f] and undecided_[f]). What
+  // is left is decided one triple at a time (resolve_triple).
   void decide_face(int f) {
-    unsigned undecided_lines = 0;
-    for (int L = 0; L < 6; ++L) {  // all six, without branching; unused for absent lines
-      const int a = kLines[L][0], b = kLines[L][1];
-      const unsigned on_line = (1u << a) | (1u << b);
-      const unsigned ma = seg_m1_[f][a], mb = seg_m1_[f][b];
-      const unsigned da = ma ^ seg_m2_[f][a], db = mb ^ seg_m2_[f][b];
-      // Prefer the parents in P_a; those in P_b where the P_a pair crosses P_c.
-      fsign_[f][L] = static_cast<u8>(on_line | (ma & ~da) | (mb & ~db & da));
-      const unsigned undecided = da & db & ~on_line & 0xFu;
-      undecided_[f][L] = static_cast<u8>(undecided);
-      undecided_lines |= unsigned(undecided != 0) << L;
-    }
-    undecided_lines &= fexist_[f];
+    // Nibble L of the spread masks: nibble a_L (spread_a) or b_L (spread_b) of a 16-bit mask.
+    const auto spread_a = [](unsigned v) {
+      return (v & 0xFu) * 0x111u | ((v >> 4) & 0xFu) * 0x11000u | ((v >> 8) & 0xFu) << 20;
+    };
+    const auto spread_b = [](unsigned v) {
+      return ((v >> 4) & 0xFu) | ((v >> 8) & 0xFu) * 0x1010u | ((v >> 12) & 0xFu) * 0x110100u;
+    };
+    constexpr unsigned on_line = 0xCA6953u;  // nibble L: the bits a_L and b_L
+    const unsigned m1 = seg1_[f], d = m1 ^ seg2_[f];
+    const unsigned ma = spread_a(m1), mb = spread_b(m1), da = spread_a(d), db = spread_b(d);
+    // Prefer the parents in P_a; those in P_b where the P_a pair crosses P_c.
+    fsign_[f] = (on_line | (ma & ~da) | (mb & ~db & da)) & 0xFFFFFFu;
+    const unsigned undecided = da & db & ~on_line & 0xFFFFFFu;
+    undecided_[f] = undecided;
     if (stats_) {
       for (unsigned lines = fexist_[f]; lines; lines &= lines - 1) {
         const int L = std::countr_zero(lines);
-        const int a = kLines[L][0], b = kLines[L][1];
-        const unsigned on_line = (1u << a) | (1u << b);
-        const unsigned ma = seg_m1_[f][a], mb = seg_m1_[f][b];
-        const unsigned da = ma ^ seg_m2_[f][a], db = mb ^ seg_m2_[f][b];
-        const unsigned both = ~da & ~db & ~on_line & 0xFu;  // inherited twice: must agree
-        if ((ma ^ mb) & both) note_inconsistency();
-        stats_->face_inherited += 2 - kPopcount4[undecided_[f][L]];
+        const unsigned both = ~(da >> (4 * L)) & ~(db >> (4 * L)) & ~(on_line >> (4 * L)) & 0xFu;  // inherited twice
+        if (((ma ^ mb) >> (4 * L)) & both) note_inconsistency();
+        stats_->face_inherited += 2 - kPopcount4[(undecided >> (4 * L)) & 0xFu];
       }
     }
-    if (!undecided_lines) return;
-    for (int t = 0; t < 4; ++t) {
-      const Triple& T = kTriples[t];
-      bool any = false;
-      for (int s = 0; s < 3; ++s)
-        any |= bit(undecided_lines, T.line[s]) && bit(undecided_[f][T.line[s]], T.slot[s][2]);
-      if (any) resolve_triple(f, T);
-    }
+    const unsigned open = undecided & kLineNibbles[fexist_[f]];
+    if (!open) return;
+    for (int t = 0; t < 4; ++t)
+      if (open & kTripleBits[t]) resolve_triple(f, kTriples[t]);
   }
 
   // For face f and vertex t of Y, the three points F(f,{p,q}), F(f,{p,r}), F(f,{q,r}) around
@@ -478,8 +506,8 @@ class Kernel {
     const bool exists[3] = {bit(ex, T.line[0]), bit(ex, T.line[1]), bit(ex, T.line[2])};
     int value[3] = {-1, -1, -1};
     for (int s = 0; s < 3; ++s)
-      if (exists[s] && !bit(undecided_[f][T.line[s]], T.slot[s][2]))
-        value[s] = bit(fsign_[f][T.line[s]], T.slot[s][2]);
+      if (exists[s] && !bit(undecided_[f], 4 * T.line[s] + T.slot[s][2]))
+        value[s] = bit(fsign_[f], 4 * T.line[s] + T.slot[s][2]);
     const int before[3] = {value[0], value[1], value[2]};
     for (;;) {
       // Propagate known signs along the relations (two passes settle a triangle).
@@ -508,7 +536,7 @@ class Kernel {
     }
     for (int s = 0; s < 3; ++s)
       if (exists[s] && before[s] < 0)
-        fsign_[f][T.line[s]] = static_cast<u8>(fsign_[f][T.line[s]] | (value[s] << T.slot[s][2]));
+        fsign_[f] |= unsigned(value[s]) << (4 * T.line[s] + T.slot[s][2]);
   }
 
   void note_inconsistency() { consistent_ = false; }
@@ -601,12 +629,13 @@ class Kernel {
       // looked at when the first is nearly parallel to the line.
       if (best > 0x1p-10) break;
       const int cut = view == a ? b : a;  // the coordinate that vanishes along the segment
-      const int i = seg_lone_[f][view], j = seg_j_[f][view], k = seg_k_[f][view];
+      const u8* v = seg_verts(f, view);
+      const int i = v[0], j = v[1], k = v[2];
       double e1[4], e2[4], w1[4], w2[4];
       edge_point(i, j, view, e1, w1);
       edge_point(i, k, view, e2, w2);
       // Interpolate from the end with cut >= 0 to the one with cut < 0, as decided by signs.
-      const bool first_nonneg = bit(seg_m1_[f][view], cut);
+      const bool first_nonneg = bit(seg_m1(f, view), cut);
       const double* s = first_nonneg ? e1 : e2;
       const double* o = first_nonneg ? e2 : e1;
       const double* ws = first_nonneg ? w1 : w2;
@@ -633,11 +662,11 @@ class Kernel {
   u8 cross_[6] = {0, 0, 0, 0, 0, 0};  // planes crossed by each edge (line 9)
   std::uint32_t edge_corners_ = 0;     // bit 4e + p: edge e ∩ P_p lies on Y
   std::uint16_t em_[6] = {};  // sign mask at edge e ∩ P_p in nibble p (read as 0 where none)
-  u8 seg_m1_[4][4], seg_m2_[4][4];
-  u8 seg_lone_[4][4], seg_j_[4][4], seg_k_[4][4];
+  std::uint16_t seg1_[4], seg2_[4];  // sign masks at the ends of (face f) ∩ P_p, nibble p
   u8 fexist_[4] = {0, 0, 0, 0};  // lines met by face f (bit L)
-  u8 fsign_[4][6] = {};          // sign mask at face f ∩ line L
-  u8 undecided_[4][6];           // coordinates of face f ∩ line L not inherited
+  std::uint32_t fsign_[4] = {};  // sign mask at face f ∩ line L, nibble L
+  std::uint32_t undecided_[4];   // coordinates of face f ∩ line L not inherited, nibble L
+  u8 fsign(int f, int L) const { return static_cast<u8>((fsign_[f] >> (4 * L)) & 0xFu); }
   bool consistent_ = true;
   IntersectionStats* stats_;
 };
@@ -699,10 +728,10 @@ bool Kernel::run(KernelResult& out) {
   for (int f = 0; f < 4; ++f) {
     if (!fexist_[f]) continue;
     decide_face(f);
-    unsigned on_y = 0;
-    for (int L = 0; L < 6; ++L) on_y |= unsigned(fsign_[f][L] == 0xF) << L;
-    for (unsigned rest = on_y & fexist_[f]; rest; rest &= rest - 1) {
-      const int L = std::countr_zero(rest);
+    const unsigned fs = fsign_[f];
+    const unsigned full = fs & (fs >> 1) & (fs >> 2) & (fs >> 3) & 0x111111u;  // nibble == 0xF
+    for (unsigned rest = full & kLineNibbles[fexist_[f]]; rest; rest &= rest - 1) {  // bit 4L
+      const int L = std::countr_zero(rest) >> 2;
       const int a = kLines[L][0], b = kLines[L][1];
       double bary[4], w[4];
       face_corner_coords(f, a, b, bary, w);
@@ -722,7 +751,7 @@ bool Kernel::run(KernelResult& out) {
       unsigned s = 0;
       int n = 0;
       for (int f = 0; f < 4; ++f)
-        if (bit(fexist_[f], L)) s |= unsigned(bit(fsign_[f][L], r)) << n++;
+        if (bit(fexist_[f], L)) s |= unsigned(bit(fsign_[f], 4 * L + r)) << n++;
       const int here = n == 2 && (s == 1 || s == 2);
       if (inside >= 0 && here != inside) note_inconsistency();
       inside = here;
@@ -750,7 +779,7 @@ void Kernel::export_signs(KernelTrace& t) const {
     for (int L = 0; L < 6; ++L)
       for (int c = 0; c < 4; ++c)
         t.face_sign[f][L][c] = level2 && bit(fexist_[f], L) && c != kLines[L][0] && c != kLines[L][1]
-                                   ? static_cast<std::int8_t>(bit(fsign_[f][L], c))
+                                   ? static_cast<std::int8_t>(bit(fsign(f, L), c))
                                    : std::int8_t{-1};
 }
 
