@@ -978,12 +978,54 @@ void reference_moments(KernelResult& r) {
 // Conditioning of a tetrahedron as a reference: |det| / (sum of squared edge lengths)^(3/2),
 // scale invariant, largest for the regular tetrahedron, zero when flat. The mapping to Y
 // amplifies rounding by about the inverse of this ratio.
+#if !TETIA_KERNEL_SSE2
 double shape_quality(const Tet& t, double& det6) {
   const Vec3 e1 = t[1] - t[0], e2 = t[2] - t[0], e3 = t[3] - t[0];
   const Vec3 e4 = t[2] - t[1], e5 = t[3] - t[1], e6 = t[3] - t[2];
   det6 = dot(e1, cross(e2, e3));
   const double s = dot(e1, e1) + dot(e2, e2) + dot(e3, e3) + dot(e4, e4) + dot(e5, e5) + dot(e6, e6);
   return std::abs(det6) / (s * std::sqrt(s));
+}
+#endif
+
+// shape_quality of U and V at once: the same operations in the same order, U in the low lane
+// and V in the high one.
+void shape_qualities(const Tet& U, const Tet& V, double& qU, double& detU, double& qV, double& detV) {
+#if TETIA_KERNEL_SSE2
+  __m128d x[4], y[4], z[4];
+  for (int k = 0; k < 4; ++k) {
+    x[k] = _mm_set_pd(V[k].x, U[k].x);
+    y[k] = _mm_set_pd(V[k].y, U[k].y);
+    z[k] = _mm_set_pd(V[k].z, U[k].z);
+  }
+  struct V2 {
+    __m128d x, y, z;
+  };
+  const auto sub = [&](int i, int j) {  // t[i] - t[j]
+    return V2{_mm_sub_pd(x[i], x[j]), _mm_sub_pd(y[i], y[j]), _mm_sub_pd(z[i], z[j])};
+  };
+  const auto dot2 = [](const V2& a, const V2& b) {
+    return _mm_add_pd(_mm_add_pd(_mm_mul_pd(a.x, b.x), _mm_mul_pd(a.y, b.y)), _mm_mul_pd(a.z, b.z));
+  };
+  const V2 e1 = sub(1, 0), e2 = sub(2, 0), e3 = sub(3, 0), e4 = sub(2, 1), e5 = sub(3, 1), e6 = sub(3, 2);
+  const V2 c{_mm_sub_pd(_mm_mul_pd(e2.y, e3.z), _mm_mul_pd(e2.z, e3.y)),
+             _mm_sub_pd(_mm_mul_pd(e2.z, e3.x), _mm_mul_pd(e2.x, e3.z)),
+             _mm_sub_pd(_mm_mul_pd(e2.x, e3.y), _mm_mul_pd(e2.y, e3.x))};
+  const __m128d det6 = dot2(e1, c);
+  __m128d s = _mm_add_pd(dot2(e1, e1), dot2(e2, e2));
+  s = _mm_add_pd(s, dot2(e3, e3));
+  s = _mm_add_pd(s, dot2(e4, e4));
+  s = _mm_add_pd(s, dot2(e5, e5));
+  s = _mm_add_pd(s, dot2(e6, e6));
+  const __m128d q = _mm_div_pd(_mm_andnot_pd(_mm_set1_pd(-0.0), det6), _mm_mul_pd(s, _mm_sqrt_pd(s)));
+  double qq[2], dd[2];
+  _mm_storeu_pd(qq, q);
+  _mm_storeu_pd(dd, det6);
+  qU = qq[0], qV = qq[1], detU = dd[0], detV = dd[1];
+#else
+  qU = shape_quality(U, detU);
+  qV = shape_quality(V, detV);
+#endif
 }
 
 // The change of coordinates of Section 2, eq. (1), one face at a time: coordinate k of a point
@@ -1003,41 +1045,69 @@ double shape_quality(const Tet& t, double& det6) {
 // rounding, in the spirit of Corollary 2, and two tetrahedra that touch across a face up to an
 // ulp give exactly zero instead of a slab of rounding-sized volume.
 struct BarycentricMap {
-  Vec3 vertex[4];
-  Vec3 anchor[4];
-  Vec3 normal[4];
-  Vec3 abs_normal[4];  // the terms of the normal in absolute value, for the permanent
-  double scale[4];     // +-1 / det6 with the sign that makes coordinate k of vertex k positive
+  // One entry per face k (opposite vertex k), as arrays over k.
+  alignas(16) double vx[4], vy[4], vz[4];  // the vertices, for the exact snapping
+  alignas(16) double ax[4], ay[4], az[4];  // anchor a_k: the face's first vertex
+  alignas(16) double nx[4], ny[4], nz[4];  // normal n_k
+  alignas(16) double px[4], py[4], pz[4];  // the terms of the normal in absolute value, for the permanent
+  alignas(16) double scale[4];  // +-1 / det6 with the sign that makes coordinate k of vertex k positive
 
   static constexpr double kErrBound = (7.0 + 56.0 * 0x1p-53) * 0x1p-53;
 
   BarycentricMap(const Tet& r, double det6) {
     const double inv = 1.0 / det6;
     for (int k = 0; k < 4; ++k) {
-      vertex[k] = r[k];
+      vx[k] = r[k].x, vy[k] = r[k].y, vz[k] = r[k].z;
       const Vec3 f0 = r[kFaceVerts[k][0]];
       const Vec3 d1 = r[kFaceVerts[k][1]] - f0, d2 = r[kFaceVerts[k][2]] - f0;
-      anchor[k] = f0;
-      normal[k] = cross(d1, d2);
-      abs_normal[k] = {std::abs(d1.y * d2.z) + std::abs(d1.z * d2.y), std::abs(d1.z * d2.x) + std::abs(d1.x * d2.z),
-                       std::abs(d1.x * d2.y) + std::abs(d1.y * d2.x)};
+      ax[k] = f0.x, ay[k] = f0.y, az[k] = f0.z;
+      const Vec3 n = cross(d1, d2);
+      nx[k] = n.x, ny[k] = n.y, nz[k] = n.z;
+      px[k] = std::abs(d1.y * d2.z) + std::abs(d1.z * d2.y);
+      py[k] = std::abs(d1.z * d2.x) + std::abs(d1.x * d2.z);
+      pz[k] = std::abs(d1.x * d2.y) + std::abs(d1.y * d2.x);
       // (r_k - f0) . n_k = orient3d(f0, f1, f2, r_k) = (-1)^(k+1) det6.
       scale[k] = (k % 2 == 0) ? -inv : inv;
     }
   }
 
+  // Coordinate k: with w = u - a_k, det = w . n_k (evaluated as (w.x n.x + w.y n.y) + w.z n.z)
+  // and the permanent |w.x| p.x + |w.y| p.y + |w.z| p.z, det * scale_k if |det| exceeds
+  // kErrBound times the permanent, else exactly 0. Then u equal to vertex k (the last such k)
+  // gets the unit coordinates of that vertex.
   void operator()(Vec3 u, double (&out)[4]) const {
-    for (int k = 0; k < 4; ++k) {
-      const Vec3 w = u - anchor[k];
-      const double det = dot(w, normal[k]);
-      const double permanent = std::abs(w.x) * abs_normal[k].x + std::abs(w.y) * abs_normal[k].y +
-                               std::abs(w.z) * abs_normal[k].z;
-      out[k] = std::abs(det) > kErrBound * permanent ? det * scale[k] : 0.0;
+    unsigned same = 0;  // bit k: u == vertex k
+#if TETIA_KERNEL_SSE2
+    const __m128d ux = _mm_set1_pd(u.x), uy = _mm_set1_pd(u.y), uz = _mm_set1_pd(u.z);
+    const __m128d sign = _mm_set1_pd(-0.0), bound = _mm_set1_pd(kErrBound);
+    for (int h = 0; h < 4; h += 2) {
+      const __m128d wx = _mm_sub_pd(ux, _mm_load_pd(ax + h)), wy = _mm_sub_pd(uy, _mm_load_pd(ay + h)),
+                    wz = _mm_sub_pd(uz, _mm_load_pd(az + h));
+      const __m128d det = _mm_add_pd(_mm_add_pd(_mm_mul_pd(wx, _mm_load_pd(nx + h)), _mm_mul_pd(wy, _mm_load_pd(ny + h))),
+                                     _mm_mul_pd(wz, _mm_load_pd(nz + h)));
+      const __m128d perm =
+          _mm_add_pd(_mm_add_pd(_mm_mul_pd(_mm_andnot_pd(sign, wx), _mm_load_pd(px + h)),
+                                _mm_mul_pd(_mm_andnot_pd(sign, wy), _mm_load_pd(py + h))),
+                     _mm_mul_pd(_mm_andnot_pd(sign, wz), _mm_load_pd(pz + h)));
+      const __m128d keep = _mm_cmpgt_pd(_mm_andnot_pd(sign, det), _mm_mul_pd(bound, perm));
+      _mm_storeu_pd(out + h, _mm_and_pd(keep, _mm_mul_pd(det, _mm_load_pd(scale + h))));
+      const __m128d eq = _mm_and_pd(_mm_and_pd(_mm_cmpeq_pd(ux, _mm_load_pd(vx + h)), _mm_cmpeq_pd(uy, _mm_load_pd(vy + h))),
+                                    _mm_cmpeq_pd(uz, _mm_load_pd(vz + h)));
+      same |= unsigned(_mm_movemask_pd(eq)) << h;
     }
-    for (int k = 0; k < 4; ++k)
-      if (u == vertex[k]) {
-        for (int q = 0; q < 4; ++q) out[q] = q == k ? 1.0 : 0.0;
-      }
+#else
+    for (int k = 0; k < 4; ++k) {
+      const double wx = u.x - ax[k], wy = u.y - ay[k], wz = u.z - az[k];
+      const double det = wx * nx[k] + wy * ny[k] + wz * nz[k];
+      const double permanent = std::abs(wx) * px[k] + std::abs(wy) * py[k] + std::abs(wz) * pz[k];
+      out[k] = std::abs(det) > kErrBound * permanent ? det * scale[k] : 0.0;
+      same |= unsigned(u.x == vx[k] && u.y == vy[k] && u.z == vz[k]) << k;
+    }
+#endif
+    if (same) {
+      const int k = std::bit_width(same) - 1;
+      for (int q = 0; q < 4; ++q) out[q] = q == k ? 1.0 : 0.0;
+    }
   }
 };
 
@@ -1054,8 +1124,8 @@ struct Frame {
 // coordinates, so that (U, V) and (V, U) always choose the same one) and computes X.
 // Returns false for flat or non-finite input: the intersection is then empty.
 bool make_frame(const Tet& U, const Tet& V, Frame& fr, bool other_reference = false) {
-  double detU, detV;
-  const double qU = shape_quality(U, detU), qV = shape_quality(V, detV);
+  double detU, detV, qU, qV;
+  shape_qualities(U, V, qU, detU, qV, detV);
   // Non-finite coordinates make a quality NaN or infinite; flat ones make it zero.
   if (!(qU > 0.0) || !(qV > 0.0) || !(qU < INFINITY) || !(qV < INFINITY)) return false;
   bool use_u = qU > qV;
