@@ -239,29 +239,33 @@ struct KernelResult {
 
 namespace {
 
-// The kernel state for one pair.
+// The kernel state for one pair. With kWeights, each corner also gets its barycentric weights
+// on X's vertices (only a full Polyhedron with U as the reference needs them).
+template <bool kWeights>
 class Kernel {
  public:
-  Kernel(const double (&C)[4][4], IntersectionStats* stats) : stats_(stats) {
+  Kernel(const double (&C)[4][4], IntersectionStats* stats) : C_(C), stats_(stats) {
     for (int i = 0; i < 4; ++i) {
-      unsigned m = 0, pos = 0;
-      for (int p = 0; p < 4; ++p) {
-        C_[i][p] = C[i][p];
-        m |= unsigned(C[i][p] >= 0.0) << p;  // binary sign, Section 1
-        pos |= unsigned(C[i][p] > 0.0) << p;
-      }
-      sm_[i] = static_cast<u8>(m);
-      pm_[i] = static_cast<u8>(pos);
+      unsigned m = 0, pos = 0;  // binary signs (Section 1) and strict positivity
 #if TETIA_KERNEL_SSE2
+      const __m128d r01 = _mm_loadu_pd(C[i]), r23 = _mm_loadu_pd(C[i] + 2), z = _mm_setzero_pd();
+      m = unsigned(_mm_movemask_pd(_mm_cmpge_pd(r01, z))) | unsigned(_mm_movemask_pd(_mm_cmpge_pd(r23, z))) << 2;
+      pos = unsigned(_mm_movemask_pd(_mm_cmpgt_pd(r01, z))) | unsigned(_mm_movemask_pd(_mm_cmpgt_pd(r23, z))) << 2;
       // Row i of C arranged for the pairs (y, x) of order_edge_by_pairs: the y-lanes are
       // (0,0), (0,1), (1,2) and the x-lanes (1,2), (3,2), (3,3).
-      const __m128d r01 = _mm_loadu_pd(C[i]), r23 = _mm_loadu_pd(C[i] + 2);
       lanes_[i][0] = _mm_unpacklo_pd(r01, r01);
       lanes_[i][1] = r01;
       lanes_[i][2] = _mm_shuffle_pd(r01, r23, 1);
       lanes_[i][3] = _mm_shuffle_pd(r23, r23, 1);
       lanes_[i][4] = _mm_unpackhi_pd(r23, r23);
+#else
+      for (int p = 0; p < 4; ++p) {
+        m |= unsigned(C[i][p] >= 0.0) << p;
+        pos |= unsigned(C[i][p] > 0.0) << p;
+      }
 #endif
+      sm_[i] = static_cast<u8>(m);
+      pm_[i] = static_cast<u8>(pos);
     }
   }
 
@@ -553,7 +557,8 @@ class Kernel {
     const int c = out.num_corners++;
     RawCorner& rc = out.corners[c];
     for (int p = 0; p < 4; ++p) rc.bary[p] = bary[p];
-    for (int p = 0; p < 4; ++p) rc.weights[p] = weights[p];
+    if constexpr (kWeights)
+      for (int p = 0; p < 4; ++p) rc.weights[p] = weights[p];
     // Callers pass the labels ascending (faces of X first, then planes of Y, each ascending).
     rc.labels[0] = static_cast<u8>(l0);
     rc.labels[1] = static_cast<u8>(l1);
@@ -601,9 +606,11 @@ class Kernel {
     const double t = C_[s][p] / (C_[s][p] - C_[o][p]);
     for (int q = 0; q < 4; ++q) b[q] = C_[s][q] + t * (C_[o][q] - C_[s][q]);
     b[p] = 0.0;
-    w[0] = w[1] = w[2] = w[3] = 0.0;
-    w[s] = 1.0 - t;
-    w[o] = t;
+    if constexpr (kWeights) {
+      w[0] = w[1] = w[2] = w[3] = 0.0;
+      w[s] = 1.0 - t;
+      w[o] = t;
+    }
   }
 
   // Coordinates of the corner where edge e meets P_p.
@@ -622,7 +629,9 @@ class Kernel {
   // per corner, so the choice cannot make two parts of the algorithm disagree; the decisions
   // were all taken on signs.
   void face_corner_coords(int f, int a, int b, double (&out)[4], double (&w)[4]) {
-    for (int q = 0; q < 4; ++q) out[q] = w[q] = 0.0;  // both set by the first view below
+    for (int q = 0; q < 4; ++q) out[q] = 0.0;  // set by the first view below
+    if constexpr (kWeights)
+      for (int q = 0; q < 4; ++q) w[q] = 0.0;
     double best = -1.0;
     for (const int view : {a, b}) {
       // A segment crossing the line at a clear angle is good enough; the second view is only
@@ -646,14 +655,15 @@ class Kernel {
       best = den;
       const double t = den > 0.0 ? cs / den : 0.5;
       for (int q = 0; q < 4; ++q) out[q] = s[q] + t * (o[q] - s[q]);
-      for (int q = 0; q < 4; ++q) w[q] = ws[q] + t * (wo[q] - ws[q]);
+      if constexpr (kWeights)
+        for (int q = 0; q < 4; ++q) w[q] = ws[q] + t * (wo[q] - ws[q]);
     }
     out[a] = out[b] = 0.0;
     if (stats_) stats_->corner_coordinates += 2;
     guardrail(out, (1u << a) | (1u << b));
   }
 
-  double C_[4][4];
+  const double (&C_)[4][4];  // X's barycentric coordinates, row i = vertex x_i
 #if TETIA_KERNEL_SSE2
   __m128d lanes_[4][5];
 #endif
@@ -671,7 +681,8 @@ class Kernel {
   IntersectionStats* stats_;
 };
 
-bool Kernel::run(KernelResult& out) {
+template <bool kWeights>
+bool Kernel<kWeights>::run(KernelResult& out) {
   out.num_corners = 0;
   out.num_facets = 0;
   for (auto& m : out.on_plane) m = 0;
@@ -766,7 +777,8 @@ bool Kernel::run(KernelResult& out) {
   return consistent_;
 }
 
-void Kernel::export_signs(KernelTrace& t) const {
+template <bool kWeights>
+void Kernel<kWeights>::export_signs(KernelTrace& t) const {
   for (int e = 0; e < 6; ++e) {
     t.crossings[static_cast<std::size_t>(e)] = cross_[e];
     for (int p = 0; p < 4; ++p)
@@ -1223,25 +1235,36 @@ bool make_frame(const Tet& U, const Tet& V, Frame& fr, bool other_reference = fa
   fr.ref = use_u ? &U : &V;
   fr.det6 = use_u ? detU : detV;
   const BarycentricMap bary(*fr.ref, fr.det6);
-  double probe = 0.0;  // stays 0 unless a coordinate is infinite or NaN
-  for (int i = 0; i < 4; ++i) {
-    bary((*fr.sub)[i], fr.C[i]);
+  for (int i = 0; i < 4; ++i) bary((*fr.sub)[i], fr.C[i]);
+  // The sum of 0 * coordinate stays 0 unless a coordinate is infinite or NaN (in any order).
+#if TETIA_KERNEL_SSE2
+  const __m128d z = _mm_setzero_pd();
+  __m128d probe = z;
+  for (int i = 0; i < 4; ++i)
+    probe = _mm_add_pd(probe, _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(fr.C[i]), z), _mm_mul_pd(_mm_loadu_pd(fr.C[i] + 2), z)));
+  return _mm_movemask_pd(_mm_cmpeq_pd(probe, z)) == 3;
+#else
+  double probe = 0.0;
+  for (int i = 0; i < 4; ++i)
     for (int p = 0; p < 4; ++p) probe += fr.C[i][p] * 0.0;
-  }
   return probe == 0.0;
+#endif
 }
 
 // Runs the kernel on a prepared frame. Returns false if the labels do not close up into a
 // simple polytope (see Kernel::run and build_facets); the result is then empty.
-template <bool kMoments>
+// kFull: the result becomes a Polyhedron (weights, and the coordinate scale orient_facets uses).
+template <bool kMoments, bool kFull>
 bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* stats) {
-  Kernel k(C, stats);
+  Kernel<kFull> k(C, stats);
   k.run(res);
   res.contradiction = !k.consistent();  // looked for only with statistics
-  double scale = 1.0;
-  for (int i = 0; i < 4; ++i)
-    for (int p = 0; p < 4; ++p) scale = std::max(scale, std::abs(C[i][p]));
-  res.coordinate_scale = scale;
+  if constexpr (kFull) {
+    double scale = 1.0;
+    for (int i = 0; i < 4; ++i)
+      for (int p = 0; p < 4; ++p) scale = std::max(scale, std::abs(C[i][p]));
+    res.coordinate_scale = scale;
+  }
   const bool ok = build_facets<!kMoments>(res);
   if (!ok) {
     res.num_corners = 0;
@@ -1259,7 +1282,7 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
 // relations accept but that no polytope realizes; the labels then do not close up. The other
 // tetrahedron is then taken as the reference, which rounds differently and in the tests has
 // always given a closed polytope. Only if that fails too is the result empty (and counted).
-template <bool kMoments>
+template <bool kMoments, bool kFull>
 bool solve(const Tet& U, const Tet& V, Frame& fr, KernelResult& res, IntersectionStats* stats) {
   if (!make_frame(U, V, fr)) {
     res.num_corners = res.num_facets = 0;
@@ -1267,10 +1290,10 @@ bool solve(const Tet& U, const Tet& V, Frame& fr, KernelResult& res, Intersectio
     return false;
   }
   if (stats && fr.swapped) ++stats->reference_swaps;
-  bool ok = run_kernel<kMoments>(fr.C, res, stats);
+  bool ok = run_kernel<kMoments, kFull>(fr.C, res, stats);
   if (!ok) {
     if (stats) ++stats->retries;
-    ok = make_frame(U, V, fr, true) && run_kernel<kMoments>(fr.C, res, stats);
+    ok = make_frame(U, V, fr, true) && run_kernel<kMoments, kFull>(fr.C, res, stats);
   }
   if (stats && (!ok || res.contradiction)) ++stats->inconsistencies;
   return ok;
@@ -1290,7 +1313,7 @@ Moments original_moments(const Frame& fr, const KernelResult& res) {
 }  // namespace
 
 void trace_kernel(const double (&C)[4][4], KernelTrace& t, IntersectionStats* stats) {
-  Kernel k(C, stats);
+  Kernel<true> k(C, stats);
   KernelResult res;
   const bool ran = k.run(res);
   for (int i = 0; i < 4; ++i)
@@ -1406,7 +1429,7 @@ Polyhedron intersect(const Tet& U, const Tet& V, IntersectionStats* stats) {
   if (stats) ++stats->calls;
   detail::Frame fr;
   detail::KernelResult res;
-  if (detail::solve<true>(U, V, fr, res, stats) && !PolyhedronBuilder::fill(P, fr, res, stats != nullptr)) {
+  if (detail::solve<true, true>(U, V, fr, res, stats) && !PolyhedronBuilder::fill(P, fr, res, stats != nullptr)) {
     if (stats) ++stats->inconsistencies;
     PolyhedronBuilder::clear(P);
   }
@@ -1416,14 +1439,14 @@ Polyhedron intersect(const Tet& U, const Tet& V, IntersectionStats* stats) {
 double intersection_volume(const Tet& U, const Tet& V) {
   detail::Frame fr;
   detail::KernelResult res;
-  if (!detail::solve<false>(U, V, fr, res, nullptr)) return 0.0;
+  if (!detail::solve<false, false>(U, V, fr, res, nullptr)) return 0.0;
   return res.ref_volume * std::abs(fr.det6);
 }
 
 Moments intersection_moments(const Tet& U, const Tet& V) {
   detail::Frame fr;
   detail::KernelResult res;
-  if (!detail::solve<true>(U, V, fr, res, nullptr)) return {};
+  if (!detail::solve<true, false>(U, V, fr, res, nullptr)) return {};
   return detail::original_moments(fr, res);
 }
 
