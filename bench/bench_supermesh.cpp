@@ -10,6 +10,10 @@
 //     h and the target at h / 1.07 (so about 1.2 times as many cells), for about 10^3, 10^4,
 //     10^5 and 10^6 source cells; the intersection has volume 1, checked to 1e-12 relative.
 //     Generated meshes are cached as .msh files (default: a folder in the build directory).
+//   Part "rect2d": the 2D counterpart (triangular meshes, the same supermesh code): pairs of
+//     non-matching Gmsh meshes of the unit square, the target at h / 1.07, for about 10^4, 10^5
+//     and 10^6 source triangles; the intersection has area 1, checked to 1e-12 relative. File
+//     order only (--order is ignored). Not part of the default run: ask for it with --parts.
 //
 // Each case runs front and R-tree search on 1 and 2 threads, best wall time of --reps runs (one
 // run only once a run takes more than --long seconds). For each it prints wall and CPU time
@@ -21,7 +25,7 @@
 // between the searches and thread counts; a mismatch or a wrong volume makes the program exit
 // with 1.
 //
-// Usage: bench_supermesh [--max-cells=N] [--reps=R] [--long=S] [--parts=pyramid,boxes]
+// Usage: bench_supermesh [--max-cells=N] [--reps=R] [--long=S] [--parts=pyramid,boxes,rect2d]
 //                        [--order=file,morton] [--threads=1,2] [--extdata=DIR] [--cache=DIR]
 //   --max-cells  skip box levels with more than N source cells (nominal: 10^3 ... 10^6);
 //                default 1000000
@@ -44,6 +48,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <time.h>
@@ -71,7 +76,7 @@ struct Options {
   std::size_t max_cells = 1000000;
   int reps = 3;
   double long_run = 10.0;
-  bool pyramid = true, boxes = true;
+  bool pyramid = true, boxes = true, rect2d = false;
   bool file_order = true, morton_order = true;
   std::vector<int> threads{1, 2};
   fs::path extdata = fs::path(TETIA_SHARED_DIR) / "extdata";
@@ -81,7 +86,7 @@ struct Options {
 [[noreturn]] void usage(const char* msg) {
   std::fprintf(stderr,
                "bench_supermesh: %s\nusage: bench_supermesh [--max-cells=N] [--reps=R] [--long=S] "
-               "[--parts=pyramid,boxes] [--order=file,morton] [--threads=1,2] [--extdata=DIR] [--cache=DIR]\n",
+               "[--parts=pyramid,boxes,rect2d] [--order=file,morton] [--threads=1,2] [--extdata=DIR] [--cache=DIR]\n",
                msg);
   std::exit(2);
 }
@@ -109,10 +114,11 @@ Options parse(int argc, char** argv) {
       } else if (key == "--long") {
         o.long_run = std::stod(val);
       } else if (key == "--parts") {
-        o.pyramid = o.boxes = false;
+        o.pyramid = o.boxes = o.rect2d = false;
         for (const auto& p : split(val)) {
           if (p == "pyramid") o.pyramid = true;
           else if (p == "boxes") o.boxes = true;
+          else if (p == "rect2d") o.rect2d = true;
           else usage(("unknown part " + p).c_str());
         }
       } else if (key == "--order") {
@@ -187,16 +193,24 @@ struct Fingerprint {
   bool operator==(const Fingerprint&) const = default;
 };
 
-Fingerprint fingerprint(const tetia::Supermesh& s) {
+double piece_measure(const tetia::SupermeshPiece& p) { return p.volume; }
+double piece_measure(const tetia::SupermeshPiece2& p) { return p.area; }
+double total_measure(const tetia::Supermesh& s) { return s.intersection_volume(); }
+double total_measure(const tetia::Supermesh2& s) { return s.intersection_area(); }
+
+// 3D or 2D alike (`volume` is the area in 2D).
+template <class Result>
+Fingerprint fingerprint(const Result& s) {
   Fingerprint f;
   f.pieces = s.pieces.size();
   f.candidates = s.candidates;
-  f.volume = s.intersection_volume();
+  f.volume = total_measure(s);
   std::uint64_t h = 1469598103934665603ULL;
   const auto mix = [&h](std::uint64_t v) { h = (h ^ v) * 1099511628211ULL; };
   for (const auto& p : s.pieces) {
     std::uint64_t bits;
-    std::memcpy(&bits, &p.volume, sizeof bits);
+    const double m = piece_measure(p);
+    std::memcpy(&bits, &m, sizeof bits);
     mix(static_cast<std::uint32_t>(p.source));
     mix(static_cast<std::uint32_t>(p.target));
     mix(bits);
@@ -217,8 +231,9 @@ struct Row {
   Fingerprint fp;
 };
 
-Row measure(const std::string& label, const tetia::TetMesh& src, const tetia::TetMesh& tgt,
-            tetia::CandidateSearch search, int threads, const Options& o) {
+template <class Mesh>
+Row measure(const std::string& label, const Mesh& src, const Mesh& tgt, tetia::CandidateSearch search, int threads,
+            const Options& o) {
   Row r;
   r.label = label;
   r.ns = src.num_cells();
@@ -234,7 +249,7 @@ Row measure(const std::string& label, const tetia::TetMesh& src, const tetia::Te
     long long before = -1;
     if (first && reset_peak_memory()) before = proc_status_bytes("VmRSS");
     const double w0 = wall_now(), c0 = cpu_now();
-    tetia::Supermesh s = tetia::supermesh(src, tgt, opt);
+    const auto s = tetia::supermesh(src, tgt, opt);
     const double w = wall_now() - w0, c = cpu_now() - c0;
     if (first) {
       const long long peak = proc_status_bytes("VmHWM");
@@ -352,8 +367,9 @@ double order_locality(const tetia::TetMesh& m) {
 
 // Runs every (search, threads) configuration on one pair of meshes; checks the volume against
 // `expected` (relative tolerance `tol`) and that all configurations agree bit for bit.
-bool run_case(const std::string& label, const tetia::TetMesh& src, const tetia::TetMesh& tgt, double expected,
-              double tol, const Options& o, std::vector<Row>& rows) {
+template <class Mesh>
+bool run_case(const std::string& label, const Mesh& src, const Mesh& tgt, double expected, double tol,
+              const Options& o, std::vector<Row>& rows) {
   bool ok = true;
   std::vector<Row> mine;
   for (const auto search : {tetia::CandidateSearch::front, tetia::CandidateSearch::rtree})
@@ -380,9 +396,9 @@ bool run_case(const std::string& label, const tetia::TetMesh& src, const tetia::
   }
   const double err = std::abs(ref.volume - expected);
   const bool vol_ok = err <= tol * expected;
-  std::printf("  %s: total volume %.17g, |V - %.17g| = %.3g (%s, tolerance %.0e); results identical across "
+  std::printf("  %s: total %s %.17g, |V - %.17g| = %.3g (%s, tolerance %.0e); results identical across "
               "searches and threads: %s\n",
-              label.c_str(), ref.volume, expected, err, vol_ok ? "OK" : "FAILED", tol * expected, ok ? "yes" : "NO");
+              label.c_str(), std::is_same_v<Mesh, tetia::TriMesh> ? "area" : "volume", ref.volume, expected, err, vol_ok ? "OK" : "FAILED", tol * expected, ok ? "yes" : "NO");
   rows.insert(rows.end(), mine.begin(), mine.end());
   return ok && vol_ok;
 }
@@ -410,6 +426,37 @@ tetia::TetMesh cached_box(const Options& o, double h) {
   const double w0 = wall_now();
   tetia::TetMesh m = tetia::generate_box({0.0, 0.0, 0.0}, {1.0, 1.0, 1.0}, h);
   std::printf("generated box h=%.6f: %zu cells, %zu nodes, %.2f s", h, m.num_cells(), m.num_nodes(), wall_now() - w0);
+  std::error_code ec;
+  fs::create_directories(o.cache, ec);
+  try {
+    tetia::write_msh(file, m);
+    std::printf(" (cached as %s)\n", file.string().c_str());
+  } catch (const std::exception& e) {
+    std::printf(" (not cached: %s)\n", e.what());
+  }
+  return m;
+}
+
+// The unit square meshed by Gmsh at size h (triangles), cached as for the boxes.
+tetia::TriMesh cached_rectangle(const Options& o, double h) {
+  char name[64];
+  std::snprintf(name, sizeof name, "rect_h%.7f.msh", h);
+  const fs::path file = o.cache / name;
+  if (fs::exists(file)) {
+    try {
+      const double w0 = wall_now();
+      tetia::TriMesh m = tetia::read_tri_mesh(file);
+      std::printf("read %s: %zu cells, %zu nodes, %.2f s\n", file.string().c_str(), m.num_cells(), m.num_nodes(),
+                  wall_now() - w0);
+      return m;
+    } catch (const std::exception& e) {
+      std::printf("cache file unreadable (%s), generating again\n", e.what());
+    }
+  }
+  const double w0 = wall_now();
+  tetia::TriMesh m = tetia::generate_rectangle({0.0, 0.0}, {1.0, 1.0}, h);
+  std::printf("generated rectangle h=%.7f: %zu cells, %zu nodes, %.2f s", h, m.num_cells(), m.num_nodes(),
+              wall_now() - w0);
   std::error_code ec;
   fs::create_directories(o.cache, ec);
   try {
@@ -488,6 +535,29 @@ int main(int argc, char** argv) {
                     mesh_bytes(src) / static_cast<double>(src.num_cells()),
                     mesh_bytes(tgt) / static_cast<double>(tgt.num_cells()));
         run_orders(lv.label, src, tgt, 1.0, 1e-12);
+      }
+    }
+    if (o.rect2d) {
+      // About 10^4, 10^5, 10^6 source triangles (an equilateral triangle of edge h has area
+      // 0.43 h^2); the target at h / 1.07.
+      struct Level {
+        const char* label;
+        std::size_t nominal;
+        double h;
+      };
+      const Level levels[] = {{"rect2d 1e4", 10000, 0.0152}, {"rect2d 1e5", 100000, 0.0048},
+                              {"rect2d 1e6", 1000000, 0.00152}};
+      for (const Level& lv : levels) {
+        if (lv.nominal > o.max_cells) {
+          std::printf("%s: skipped (--max-cells=%zu)\n", lv.label, o.max_cells);
+          continue;
+        }
+        const tetia::TriMesh src = cached_rectangle(o, lv.h);
+        const tetia::TriMesh tgt = cached_rectangle(o, lv.h / 1.07);
+        std::printf("%s, file order\n", lv.label);
+        print_header();
+        ok &= run_case(std::string(lv.label), src, tgt, 1.0, 1e-12, o, rows);
+        std::printf("\n");
       }
     }
   } catch (const std::exception& e) {
