@@ -548,17 +548,15 @@ class Kernel {
 
   // --- corners ------------------------------------------------------------------------------
 
-  void add_corner(KernelResult& out, const double (&bary)[4], const double (&weights)[4], int l0, int l1,
-                  int l2, u8 kind, int index) {
+  // Appends a corner with its labels and returns it, for the caller to write its coordinates
+  // (and, with kWeights, its weights) in place.
+  RawCorner& add_corner(KernelResult& out, int l0, int l1, int l2, u8 kind, int index) {
     if (out.num_corners >= KernelResult::kMaxCorners) {  // impossible for a simple polytope
       note_inconsistency();
-      return;
+      return overflow_;
     }
     const int c = out.num_corners++;
     RawCorner& rc = out.corners[c];
-    for (int p = 0; p < 4; ++p) rc.bary[p] = bary[p];
-    if constexpr (kWeights)
-      for (int p = 0; p < 4; ++p) rc.weights[p] = weights[p];
     // Callers pass the labels ascending (faces of X first, then planes of Y, each ascending).
     rc.labels[0] = static_cast<u8>(l0);
     rc.labels[1] = static_cast<u8>(l1);
@@ -569,6 +567,7 @@ class Kernel {
     out.on_plane[l0] |= b;
     out.on_plane[l1] |= b;
     out.on_plane[l2] |= b;
+    return rc;
   }
 
   // Guardrails (Section 4.1.1): a corner found on Y by its signs has all coordinates in [0, 1]
@@ -577,6 +576,12 @@ class Kernel {
   // lies on stay exactly 0. If nothing is left, the midpoint of the admissible coordinates
   // (one choice in the spirit of Table 4).
   void guardrail(double (&b)[4], unsigned zero_mask) {
+#if TETIA_KERNEL_SSE2
+    const __m128d z = _mm_setzero_pd();
+    const int nonneg = _mm_movemask_pd(_mm_cmpge_pd(_mm_loadu_pd(b), z)) |
+                       _mm_movemask_pd(_mm_cmpge_pd(_mm_loadu_pd(b + 2), z)) << 2;
+    if (nonneg == 0xF) return;  // the usual case, as below
+#endif
     bool clamped = false;
     for (int p = 0; p < 4; ++p)
       if (!(b[p] >= 0.0)) {  // also catches NaN; the zero coordinates are exact zeros already
@@ -604,13 +609,24 @@ class Kernel {
   void edge_point(int i, int j, int p, double (&b)[4], double (&w)[4]) const {
     const int s = bit(sm_[i], p) ? i : j, o = s == i ? j : i;
     const double t = C_[s][p] / (C_[s][p] - C_[o][p]);
-    for (int q = 0; q < 4; ++q) b[q] = C_[s][q] + t * (C_[o][q] - C_[s][q]);
+    interpolate(C_[s], C_[o], t, b);
     b[p] = 0.0;
     if constexpr (kWeights) {
       w[0] = w[1] = w[2] = w[3] = 0.0;
       w[s] = 1.0 - t;
       w[o] = t;
     }
+  }
+
+  // out = s + t (o - s), coordinate by coordinate.
+  static void interpolate(const double* s, const double* o, double t, double* out) {
+#if TETIA_KERNEL_SSE2
+    const __m128d tt = _mm_set1_pd(t), s01 = _mm_loadu_pd(s), s23 = _mm_loadu_pd(s + 2);
+    _mm_storeu_pd(out, _mm_add_pd(s01, _mm_mul_pd(tt, _mm_sub_pd(_mm_loadu_pd(o), s01))));
+    _mm_storeu_pd(out + 2, _mm_add_pd(s23, _mm_mul_pd(tt, _mm_sub_pd(_mm_loadu_pd(o + 2), s23))));
+#else
+    for (int q = 0; q < 4; ++q) out[q] = s[q] + t * (o[q] - s[q]);
+#endif
   }
 
   // Coordinates of the corner where edge e meets P_p.
@@ -654,7 +670,7 @@ class Kernel {
       if (!(den > best)) continue;
       best = den;
       const double t = den > 0.0 ? cs / den : 0.5;
-      for (int q = 0; q < 4; ++q) out[q] = s[q] + t * (o[q] - s[q]);
+      interpolate(s, o, t, out);
       if constexpr (kWeights)
         for (int q = 0; q < 4; ++q) w[q] = ws[q] + t * (wo[q] - ws[q]);
     }
@@ -679,6 +695,7 @@ class Kernel {
   u8 fsign(int f, int L) const { return static_cast<u8>((fsign_[f] >> (4 * L)) & 0xFu); }
   bool consistent_ = true;
   IntersectionStats* stats_;
+  RawCorner overflow_;  // where corners beyond kMaxCorners go (never, for a simple polytope)
 };
 
 template <bool kWeights>
@@ -698,11 +715,13 @@ bool Kernel<kWeights>::run(KernelResult& out) {
   // three faces of X that contain it.
   for (int i = 0; i < 4; ++i)
     if (sm_[i] == 0xF) {
-      double b[4] = {C_[i][0], C_[i][1], C_[i][2], C_[i][3]};
-      guardrail(b, 0);
-      double w[4] = {0.0, 0.0, 0.0, 0.0};
-      w[i] = 1.0;
-      add_corner(out, b, w, kFaceVerts[i][0], kFaceVerts[i][1], kFaceVerts[i][2], kVertexOfX, i);
+      RawCorner& rc = add_corner(out, kFaceVerts[i][0], kFaceVerts[i][1], kFaceVerts[i][2], kVertexOfX, i);
+      for (int p = 0; p < 4; ++p) rc.bary[p] = C_[i][p];
+      guardrail(rc.bary, 0);
+      if constexpr (kWeights) {
+        for (int p = 0; p < 4; ++p) rc.weights[p] = 0.0;
+        rc.weights[i] = 1.0;
+      }
     }
   if ((sm_[0] & sm_[1] & sm_[2] & sm_[3]) == 0xF) return true;  // X inside Y
 
@@ -711,11 +730,10 @@ bool Kernel<kWeights>::run(KernelResult& out) {
   for (std::uint32_t rest = edge_corners_; rest; rest &= rest - 1) {
     const int bitpos = std::countr_zero(rest);
     const int e = bitpos >> 2, p = bitpos & 3;
-    double b[4], w[4];
-    edge_corner_coords(e, p, b, w);
     // Edge ij lies on the two faces of X opposite the vertices it does not contain, which are
     // the vertices of the opposite edge 5 - e.
-    add_corner(out, b, w, tet_edges[5 - e][0], tet_edges[5 - e][1], 4 + p, kEdgeOfX, e * 4 + p);
+    RawCorner& rc = add_corner(out, tet_edges[5 - e][0], tet_edges[5 - e][1], 4 + p, kEdgeOfX, e * 4 + p);
+    edge_corner_coords(e, p, rc.bary, rc.weights);
   }
 
   // Line 18: faces of X against lines of Y.
@@ -744,9 +762,8 @@ bool Kernel<kWeights>::run(KernelResult& out) {
     for (unsigned rest = full & kLineNibbles[fexist_[f]]; rest; rest &= rest - 1) {  // bit 4L
       const int L = std::countr_zero(rest) >> 2;
       const int a = kLines[L][0], b = kLines[L][1];
-      double bary[4], w[4];
-      face_corner_coords(f, a, b, bary, w);
-      add_corner(out, bary, w, f, 4 + a, 4 + b, kFaceOfX, f * 8 + L);
+      RawCorner& rc = add_corner(out, f, 4 + a, 4 + b, kFaceOfX, f * 8 + L);
+      face_corner_coords(f, a, b, rc.bary, rc.weights);
     }
   }
 
@@ -768,10 +785,9 @@ bool Kernel<kWeights>::run(KernelResult& out) {
       inside = here;
     }
     if (inside == 1) {
-      double b[4] = {0.0, 0.0, 0.0, 0.0};
-      b[t] = 1.0;
       const int l0 = t == 0 ? 5 : 4, l1 = t <= 1 ? 6 : 5, l2 = t == 3 ? 6 : 7;
-      add_corner(out, b, b, l0, l1, l2, kVertexOfY, t);  // weights unknown here (see fill())
+      RawCorner& rc = add_corner(out, l0, l1, l2, kVertexOfY, t);
+      for (int p = 0; p < 4; ++p) rc.bary[p] = rc.weights[p] = p == t ? 1.0 : 0.0;  // weights unknown here (see fill())
     }
   }
   return consistent_;
