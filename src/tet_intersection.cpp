@@ -607,7 +607,7 @@ class Kernel {
   // Also returns the point's barycentric weights on X's vertices in w (exact zeros off the
   // edge): they give the corner's coordinates in U when U is the caller's V (see fill()).
   void edge_point(int i, int j, int p, double (&b)[4], double (&w)[4]) const {
-    const int s = bit(sm_[i], p) ? i : j, o = s == i ? j : i;
+    const int s = j ^ ((i ^ j) & -int(bit(sm_[i], p))), o = i ^ j ^ s;  // without a branch
     const double t = C_[s][p] / (C_[s][p] - C_[o][p]);
     interpolate(C_[s], C_[o], t, b);
     b[p] = 0.0;
@@ -656,15 +656,15 @@ class Kernel {
       const int cut = view == a ? b : a;  // the coordinate that vanishes along the segment
       const u8* v = seg_verts(f, view);
       const int i = v[0], j = v[1], k = v[2];
-      double e1[4], e2[4], w1[4], w2[4];
-      edge_point(i, j, view, e1, w1);
-      edge_point(i, k, view, e2, w2);
+      double e[2][4], we[2][4];
+      edge_point(i, j, view, e[0], we[0]);
+      edge_point(i, k, view, e[1], we[1]);
       // Interpolate from the end with cut >= 0 to the one with cut < 0, as decided by signs.
-      const bool first_nonneg = bit(seg_m1(f, view), cut);
-      const double* s = first_nonneg ? e1 : e2;
-      const double* o = first_nonneg ? e2 : e1;
-      const double* ws = first_nonneg ? w1 : w2;
-      const double* wo = first_nonneg ? w2 : w1;
+      const int second = int(!bit(seg_m1(f, view), cut));
+      const double* s = e[second];
+      const double* o = e[second ^ 1];
+      const double* ws = we[second];
+      const double* wo = we[second ^ 1];
       const double cs = std::max(s[cut], 0.0), co = std::min(o[cut], 0.0);
       const double den = cs - co;
       if (!(den > best)) continue;
@@ -778,8 +778,11 @@ bool Kernel<kWeights>::run(KernelResult& out) {
       const int L = kVertexLines[t][k][0], r = kVertexLines[t][k][1];
       unsigned s = 0;
       int n = 0;
-      for (int f = 0; f < 4; ++f)
-        if (bit(fexist_[f], L)) s |= unsigned(bit(fsign_[f], 4 * L + r)) << n++;
+      for (int f = 0; f < 4; ++f) {  // the r-signs of the faces meeting the line, in order
+        const unsigned e = bit(fexist_[f], L);
+        s |= (e & unsigned(bit(fsign_[f], 4 * L + r))) << n;
+        n += int(e);
+      }
       const int here = n == 2 && (s == 1 || s == 2);
       if (inside >= 0 && here != inside) note_inconsistency();
       inside = here;
@@ -924,9 +927,11 @@ bool build_facets(KernelResult& r) {
   r.facet_begin[0] = 0;
   double vol6 = 0.0;
   int used = 0;
-  for (int a = 0; a < 8; ++a) {
+  unsigned planes = 0;
+  for (int a = 0; a < 8; ++a) planes |= unsigned(r.on_plane[a] != 0) << a;
+  for (; planes; planes &= planes - 1) {
+    const int a = std::countr_zero(planes);
     const std::uint32_t here = r.on_plane[a];
-    if (!here) continue;
     const int start = std::countr_zero(here);
     int prev = start, cur = r.corners[start].labels[0] == a ? nb[start][1] : nb[start][0];
     std::uint32_t visited = 1u << start;
