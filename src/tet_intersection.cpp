@@ -240,11 +240,12 @@ struct KernelResult {
 namespace {
 
 // The kernel state for one pair. With kWeights, each corner also gets its barycentric weights
-// on X's vertices (only a full Polyhedron with U as the reference needs them).
-template <bool kWeights>
+// on X's vertices (only a full Polyhedron with U as the reference needs them). kStats: the
+// statistics are kept (and contradictions looked for); without, every such test compiles away.
+template <bool kWeights, bool kStats>
 class Kernel {
  public:
-  Kernel(const double (&C)[4][4], IntersectionStats* stats) : C_(C), stats_(stats) {
+  Kernel(const double (&C)[4][4], IntersectionStats* stats) : C_(C), stats_(kStats ? stats : nullptr) {
     for (int i = 0; i < 4; ++i) {
       unsigned m = 0, pos = 0;  // binary signs (Section 1) and strict positivity
 #if TETIA_KERNEL_SSE2
@@ -305,7 +306,7 @@ class Kernel {
     const int i = tet_edges[e][0], j = tet_edges[e][1];
     const unsigned crossed = unsigned(sm_[i] ^ sm_[j]);
     cross_[e] = static_cast<u8>(crossed);
-    if (!stats_ && order_edge_by_pairs(e, i, j, crossed)) return;
+    if (!stats() && order_edge_by_pairs(e, i, j, crossed)) return;
     if (!crossed) return;
     int sorted[4], n = 0, comparisons = 0;
     for (unsigned rest = crossed; rest; rest &= rest - 1) {
@@ -330,11 +331,11 @@ class Kernel {
       m = (m & ~b) | (sm_[j] & b);
     }
     edge_corners_ |= on_y << (4 * e);
-    if (stats_) {
-      stats_->edge_inherited += n * (4 - n);
-      stats_->edge_computed += comparisons;
-      stats_->edge_paired += comparisons;
-      stats_->edge_straight_line += n * (n - 1) - 2 * comparisons;
+    if (stats()) {
+      stats()->edge_inherited += n * (4 - n);
+      stats()->edge_computed += comparisons;
+      stats()->edge_paired += comparisons;
+      stats()->edge_straight_line += n * (n - 1) - 2 * comparisons;
     }
   }
 
@@ -430,7 +431,7 @@ class Kernel {
       const unsigned from_low = ((d >> 1) & 0x7u) | ((d >> 3) & 0x18u) | ((d >> 6) & 0x20u);
       const unsigned from_high =
           ((d >> 4) & 0x1u) | ((d >> 7) & 0x2u) | ((d >> 10) & 0x4u) | ((d >> 6) & 0x8u) | ((d >> 9) & 0x30u);
-      if (stats_ && from_low != from_high) note_inconsistency();
+      if (stats() && from_low != from_high) note_inconsistency();
       fexist_[f] = static_cast<u8>(from_low & from_high);
     }
   }
@@ -486,12 +487,12 @@ class Kernel {
     fsign_[f] = (on_line | (ma & ~da) | (mb & ~db & da)) & 0xFFFFFFu;
     const unsigned undecided = da & db & ~on_line & 0xFFFFFFu;
     undecided_[f] = undecided;
-    if (stats_) {
+    if (stats()) {
       for (unsigned lines = fexist_[f]; lines; lines &= lines - 1) {
         const int L = std::countr_zero(lines);
         const unsigned both = ~(da >> (4 * L)) & ~(db >> (4 * L)) & ~(on_line >> (4 * L)) & 0xFu;  // inherited twice
         if (((ma ^ mb) >> (4 * L)) & both) note_inconsistency();
-        stats_->face_inherited += 2 - kPopcount4[(undecided >> (4 * L)) & 0xFu];
+        stats()->face_inherited += 2 - kPopcount4[(undecided >> (4 * L)) & 0xFu];
       }
     }
     const unsigned open = undecided & kLineNibbles[fexist_[f]];
@@ -523,16 +524,16 @@ class Kernel {
           const bool xnor = pairing(f, R[2], R[3], R[4]);
           const int known = k1 >= 0 ? k1 : k2;
           value[k1 >= 0 ? R[1] : R[0]] = (bool(known) == xnor) ? 1 : 0;
-          if (stats_) ++stats_->face_paired;
+          if (stats()) ++stats()->face_paired;
         }
       int undecided = -1;
       for (int s = 0; s < 3 && undecided < 0; ++s)
         if (exists[s] && value[s] < 0) undecided = s;
       if (undecided < 0) break;
       value[undecided] = direct_sign(f, T.slot[undecided][0], T.slot[undecided][1], T.slot[undecided][2]);
-      if (stats_) ++stats_->face_computed;
+      if (stats()) ++stats()->face_computed;
     }
-    if (stats_) {  // every relation must hold (Theorem 6)
+    if (stats()) {  // every relation must hold (Theorem 6)
       for (const auto& R : T.rel)
         if (exists[R[0]] && exists[R[1]] &&
             ((value[R[0]] == value[R[1]]) != pairing(f, R[2], R[3], R[4])))
@@ -589,7 +590,7 @@ class Kernel {
         clamped = true;
       }
     if (!clamped) return;  // computed coordinates sum to 1 up to rounding: left as they are
-    if (stats_) ++stats_->guardrail_clamps;
+    if (stats()) ++stats()->guardrail_clamps;
     const double sum = b[0] + b[1] + b[2] + b[3];
     if (sum > 0.0 && sum < INFINITY) {
       const double inv = 1.0 / sum;
@@ -632,7 +633,7 @@ class Kernel {
   // Coordinates of the corner where edge e meets P_p.
   void edge_corner_coords(int e, int p, double (&b)[4], double (&w)[4]) {
     edge_point(tet_edges[e][0], tet_edges[e][1], p, b, w);
-    if (stats_) stats_->corner_coordinates += 3;
+    if (stats()) stats()->corner_coordinates += 3;
     guardrail(b, 1u << p);
   }
 
@@ -675,7 +676,7 @@ class Kernel {
         for (int q = 0; q < 4; ++q) w[q] = ws[q] + t * (wo[q] - ws[q]);
     }
     out[a] = out[b] = 0.0;
-    if (stats_) stats_->corner_coordinates += 2;
+    if (stats()) stats()->corner_coordinates += 2;
     guardrail(out, (1u << a) | (1u << b));
   }
 
@@ -694,12 +695,16 @@ class Kernel {
   std::uint32_t undecided_[4];   // coordinates of face f ∩ line L not inherited, nibble L
   u8 fsign(int f, int L) const { return static_cast<u8>((fsign_[f] >> (4 * L)) & 0xFu); }
   bool consistent_ = true;
-  IntersectionStats* stats_;
+  IntersectionStats* stats_;  // only read through stats()
+  IntersectionStats* stats() const {
+    if constexpr (kStats) return stats_;
+    else return nullptr;
+  }
   RawCorner overflow_;  // where corners beyond kMaxCorners go (never, for a simple polytope)
 };
 
-template <bool kWeights>
-bool Kernel<kWeights>::run(KernelResult& out) {
+template <bool kWeights, bool kStats>
+bool Kernel<kWeights, kStats>::run(KernelResult& out) {
   out.num_corners = 0;
   out.num_facets = 0;
   for (auto& m : out.on_plane) m = 0;
@@ -744,18 +749,20 @@ bool Kernel<kWeights>::run(KernelResult& out) {
   // repairs. Here each X ∩ P_p inherits its vertices' signs from totally ordered crossings
   // along the edges, which keeps it convex in the sign sense; the case is detected (and counted
   // as an inconsistency) rather than repaired, and the tests have never produced it.
-  if (stats_) {
+  if (stats()) {
     for (int L = 0; L < 6; ++L) {
       int count = 0;
       for (int f = 0; f < 4; ++f) count += bit(fexist_[f], L);
       if (count != 0 && count != 2) {
-        ++stats_->nonconvex_repairs;
+        ++stats()->nonconvex_repairs;
         note_inconsistency();
       }
     }
   }
-  for (int f = 0; f < 4; ++f) {
-    if (!fexist_[f]) continue;
+  unsigned faces = 0;  // the faces of X that meet a line of Y
+  for (int f = 0; f < 4; ++f) faces |= unsigned(fexist_[f] != 0) << f;
+  for (; faces; faces &= faces - 1) {
+    const int f = std::countr_zero(faces);
     decide_face(f);
     const unsigned fs = fsign_[f];
     const unsigned full = fs & (fs >> 1) & (fs >> 2) & (fs >> 3) & 0x111111u;  // nibble == 0xF
@@ -771,10 +778,30 @@ bool Kernel<kWeights>::run(KernelResult& out) {
   // intersections with faces of X differ in the sign of the coordinate that is neither the
   // line's nor t's. One line suffices; with statistics on, the other two are checked to agree
   // (end of the proof of Theorem 6).
+  if constexpr (!kStats) {  // the same test on the first line, for the four vertices at once
+    unsigned inside = 0;
+    for (int t = 0; t < 4; ++t) {
+      const int L = kVertexLines[t][0][0], r = kVertexLines[t][0][1];
+      unsigned s = 0, n = 0;
+      for (int f = 0; f < 4; ++f) {
+        const unsigned e = bit(fexist_[f], L);
+        s |= (e & unsigned(bit(fsign_[f], 4 * L + r))) << n;
+        n += e;
+      }
+      inside |= (unsigned(n == 2) & unsigned(s == 1 || s == 2)) << t;
+    }
+    for (; inside; inside &= inside - 1) {
+      const int t = std::countr_zero(inside);
+      const int l0 = t == 0 ? 5 : 4, l1 = t <= 1 ? 6 : 5, l2 = t == 3 ? 6 : 7;
+      RawCorner& rc = add_corner(out, l0, l1, l2, kVertexOfY, t);
+      for (int p = 0; p < 4; ++p) rc.bary[p] = rc.weights[p] = p == t ? 1.0 : 0.0;  // weights unknown here (see fill())
+    }
+    return consistent_;
+  }
   const unsigned any_line = fexist_[0] | fexist_[1] | fexist_[2] | fexist_[3];
   for (int t = 0; t < 4 && any_line; ++t) {
     int inside = -1;
-    for (int k = 0; k < 3 && (inside < 0 || stats_); ++k) {
+    for (int k = 0; k < 3 && (inside < 0 || stats()); ++k) {
       const int L = kVertexLines[t][k][0], r = kVertexLines[t][k][1];
       unsigned s = 0;
       int n = 0;
@@ -796,8 +823,8 @@ bool Kernel<kWeights>::run(KernelResult& out) {
   return consistent_;
 }
 
-template <bool kWeights>
-void Kernel<kWeights>::export_signs(KernelTrace& t) const {
+template <bool kWeights, bool kStats>
+void Kernel<kWeights, kStats>::export_signs(KernelTrace& t) const {
   for (int e = 0; e < 6; ++e) {
     t.crossings[static_cast<std::size_t>(e)] = cross_[e];
     for (int p = 0; p < 4; ++p)
@@ -1252,9 +1279,11 @@ bool make_frame(const Tet& U, const Tet& V, Frame& fr, bool other_reference = fa
   }
   use_u = use_u != other_reference;
   fr.swapped = use_u;
-  fr.sub = use_u ? &V : &U;
-  fr.ref = use_u ? &U : &V;
-  fr.det6 = use_u ? detU : detV;
+  const Tet* const both[2] = {&U, &V};  // indexed, not branched on: the choice is data
+  const double dets[2] = {detU, detV};
+  fr.sub = both[use_u];
+  fr.ref = both[!use_u];
+  fr.det6 = dets[!use_u];
   const BarycentricMap bary(*fr.ref, fr.det6);
   for (int i = 0; i < 4; ++i) bary((*fr.sub)[i], fr.C[i]);
   // The sum of 0 * coordinate stays 0 unless a coordinate is infinite or NaN (in any order).
@@ -1277,9 +1306,15 @@ bool make_frame(const Tet& U, const Tet& V, Frame& fr, bool other_reference = fa
 // kFull: the result becomes a Polyhedron (weights, and the coordinate scale orient_facets uses).
 template <bool kMoments, bool kFull>
 bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* stats) {
-  Kernel<kFull> k(C, stats);
-  k.run(res);
-  res.contradiction = !k.consistent();  // looked for only with statistics
+  if (stats) {
+    Kernel<kFull, true> k(C, stats);
+    k.run(res);
+    res.contradiction = !k.consistent();  // looked for only with statistics
+  } else {
+    Kernel<kFull, false> k(C, nullptr);
+    k.run(res);
+    res.contradiction = !k.consistent();
+  }
   if constexpr (kFull) {
     double scale = 1.0;
     for (int i = 0; i < 4; ++i)
@@ -1334,7 +1369,7 @@ Moments original_moments(const Frame& fr, const KernelResult& res) {
 }  // namespace
 
 void trace_kernel(const double (&C)[4][4], KernelTrace& t, IntersectionStats* stats) {
-  Kernel<true> k(C, stats);
+  Kernel<true, true> k(C, stats);
   KernelResult res;
   const bool ran = k.run(res);
   for (int i = 0; i < 4; ++i)
