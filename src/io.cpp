@@ -10,8 +10,12 @@
 // into std::runtime_error("tetia: FILE: ...").
 //
 // Node and cell order of a mesh read from a file: nodes by increasing node tag, cells (the
-// 4-node tetrahedra) by increasing element tag. For files written by write_msh (tags 1..N and
-// 1..M) that is the order of the file, and of the mesh that was written.
+// 4-node tetrahedra, or the 3-node triangles of a 2D file) by increasing element tag. For files
+// written by write_msh (tags 1..N and 1..M) that is the order of the file, and of the mesh that
+// was written.
+//
+// Both dimensions share every function here (templates over the mesh type, src/dimension.hpp);
+// only the Gmsh and VTK element types, the plane check of 2D files and the OCC shapes differ.
 #include "tetia/io.hpp"
 
 #include <gmsh.h>
