@@ -912,26 +912,33 @@ bool build_facets_walk(KernelResult& r) {
 
 // build_facets_walk, with each corner's neighbours found once instead of at every step. Corner
 // c with labels l0 < l1 < l2 has three edges; nb[k] is the other corner on the edge that does
-// not lie on l_k (it must be unique). On facet a the walk enters c from one of its two
-// neighbours on a and leaves to the other, so the next corner is (xor of c's two neighbours on
-// a) xor the previous one. The first step from the start corner goes where the walk above goes
-// (across the planes a and the label of start that is neither a nor the first other one), so
-// the cycles, their directions and the fan volumes are the same, operation for operation.
+// not lie on l_k. When every such neighbour is unique and no two corners carry the same three
+// labels, each plane's corners and edges form cycles of at least three corners (two neighbours
+// per corner on the plane, distinct, symmetric), so a walk cannot revisit a corner before it
+// closes and needs no test for it. Otherwise the label walk above decides (and fails). On
+// facet a the walk enters c from one of its two neighbours on a and leaves to the other: the
+// next corner is (xor of c's two neighbours on a) xor the previous one. The first step from
+// the start corner goes where the label walk goes (across the planes a and the label of start
+// that is neither a nor the first other one), so the cycles, their directions and the fan
+// volumes are the same, operation for operation.
 template <bool kVolume>
 bool build_facets(KernelResult& r) {
   const int n = r.num_corners;
   if (n < 4) return build_facets_walk<kVolume>(r);
   u8 nb[KernelResult::kMaxCorners][2];  // nb[c][0], nb[c][1]: across the edges off l0, off l1
   u8 across[KernelResult::kMaxCorners][8];  // [c][a]: xor of c's two neighbours on facet a
-  std::uint32_t bad = 0;
+  unsigned bad = 0;
   double o[3] = {0.0, 0.0, 0.0};
   for (int c = 0; c < n; ++c) {
     const u8* l = r.corners[c].labels;
     const std::uint32_t self = ~(1u << c), p0 = r.on_plane[l[0]], p1 = r.on_plane[l[1]], p2 = r.on_plane[l[2]];
     const std::uint32_t m0 = p1 & p2 & self, m1 = p0 & p2 & self, m2 = p0 & p1 & self;
-    bad |= (m0 & (m0 - 1)) | (m1 & (m1 - 1)) | (m2 & (m2 - 1)) | unsigned(m0 == 0) | unsigned(m1 == 0) |
-           unsigned(m2 == 0);
-    const int n0 = std::countr_zero(m0), n1 = std::countr_zero(m1), n2 = std::countr_zero(m2);
+    // Exactly one bit each ((m ^ (m - 1)) > m - 1 holds for powers of two only), and no other
+    // corner on all three planes.
+    bad |= unsigned((m0 ^ (m0 - 1)) <= m0 - 1) | unsigned((m1 ^ (m1 - 1)) <= m1 - 1) |
+           unsigned((m2 ^ (m2 - 1)) <= m2 - 1) | (m2 & p2);
+    const int n0 = std::countr_zero(m0 | 0x80000000u), n1 = std::countr_zero(m1 | 0x80000000u),
+              n2 = std::countr_zero(m2 | 0x80000000u);
     nb[c][0] = static_cast<u8>(n0);
     nb[c][1] = static_cast<u8>(n1);
     across[c][l[0]] = static_cast<u8>(n1 ^ n2);
@@ -941,15 +948,15 @@ bool build_facets(KernelResult& r) {
       for (int k = 0; k < 3; ++k) o[k] += r.corners[c].bary[k + 1];
   }
   if (bad) return build_facets_walk<kVolume>(r);
-  double d[KernelResult::kMaxCorners][3];  // corners relative to their mean
   if constexpr (kVolume) {
     const double inv = 1.0 / n;
     for (double& x : o) x *= inv;
-    for (int c = 0; c < n; ++c) {
-      const double* p = r.corners[c].bary;
-      d[c][0] = p[1] - o[0], d[c][1] = p[2] - o[1], d[c][2] = p[3] - o[2];
-    }
   }
+  // A corner relative to the mean of the corners.
+  const auto rel = [&](int c, double& x, double& y, double& z) {
+    const double* p = r.corners[c].bary;
+    x = p[1] - o[0], y = p[2] - o[1], z = p[3] - o[2];
+  };
   r.num_facets = 0;
   r.facet_begin[0] = 0;
   double vol6 = 0.0;
@@ -960,30 +967,31 @@ bool build_facets(KernelResult& r) {
     const int a = std::countr_zero(planes);
     const std::uint32_t here = r.on_plane[a];
     const int start = std::countr_zero(here);
-    int prev = start, cur = r.corners[start].labels[0] == a ? nb[start][1] : nb[start][0];
-    std::uint32_t visited = 1u << start;
+    const int first = nb[start][r.corners[start].labels[0] == a ? 1 : 0];
     r.facet_index[used++] = static_cast<u8>(start);
-    double fv = 0.0, bx = 0.0, by = 0.0, bz = 0.0;
-    if constexpr (kVolume) bx = d[cur][0], by = d[cur][1], bz = d[cur][2];
-    for (bool first = true; cur != start; first = false) {
-      const std::uint32_t cb = 1u << cur;
-      if (visited & cb) return false;
-      visited |= cb;
+    r.facet_index[used++] = static_cast<u8>(first);
+    std::uint32_t visited = (1u << start) | (1u << first);
+    double fv = 0.0, ax = 0.0, ay = 0.0, az = 0.0, bx = 0.0, by = 0.0, bz = 0.0;
+    if constexpr (kVolume) {
+      rel(start, ax, ay, az);
+      rel(first, bx, by, bz);
+    }
+    int prev = first, cur = across[first][a] ^ start;
+    while (cur != start) {
+      visited |= 1u << cur;
       r.facet_index[used++] = static_cast<u8>(cur);
       if constexpr (kVolume) {
-        const double cx = d[cur][0], cy = d[cur][1], cz = d[cur][2];
-        if (!first) {
-          const double ax = d[start][0], ay = d[start][1], az = d[start][2];
-          fv += ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
-        }
+        double cx, cy, cz;
+        rel(cur, cx, cy, cz);
+        fv += ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
         bx = cx, by = cy, bz = cz;
       }
       const int next = across[cur][a] ^ prev;
       prev = cur;
       cur = next;
     }
-    // All the plane's corners on one cycle of at least three.
-    if (visited != here || r.facet_begin[r.num_facets] + 3 > used) return false;
+    // All the plane's corners on one cycle (of at least three, see above).
+    if (visited != here) return false;
     r.facet_label[r.num_facets] = static_cast<u8>(a);
     r.facet_begin[++r.num_facets] = static_cast<u8>(used);
     vol6 += std::abs(fv);
