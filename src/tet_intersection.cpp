@@ -1207,6 +1207,38 @@ struct BarycentricMap {
 
   BarycentricMap(const Tet& r, double det6) {
     const double inv = 1.0 / det6;
+#if TETIA_KERNEL_SSE2
+    // The loop below for faces (0, 1) and (2, 3) at once: first vertices (r1, r0), (r0, r0),
+    // second (r2, r2), (r1, r1), third (r3, r3), (r3, r2) (kFaceVerts).
+    for (int h = 0; h < 2; ++h) {
+      const Vec3& a0 = r[h == 0 ? 1 : 0];
+      const Vec3& b0 = r[h == 0 ? 2 : 1];
+      const Vec3& c0 = r[3];
+      const Vec3& c1 = r[h == 0 ? 3 : 2];
+      const __m128d f0x = _mm_set_pd(r[0].x, a0.x), f0y = _mm_set_pd(r[0].y, a0.y), f0z = _mm_set_pd(r[0].z, a0.z);
+      const __m128d f1x = _mm_set1_pd(b0.x), f1y = _mm_set1_pd(b0.y), f1z = _mm_set1_pd(b0.z);
+      const __m128d f2x = _mm_set_pd(c1.x, c0.x), f2y = _mm_set_pd(c1.y, c0.y), f2z = _mm_set_pd(c1.z, c0.z);
+      const __m128d d1x = _mm_sub_pd(f1x, f0x), d1y = _mm_sub_pd(f1y, f0y), d1z = _mm_sub_pd(f1z, f0z);
+      const __m128d d2x = _mm_sub_pd(f2x, f0x), d2y = _mm_sub_pd(f2y, f0y), d2z = _mm_sub_pd(f2z, f0z);
+      const __m128d yz = _mm_mul_pd(d1y, d2z), zy = _mm_mul_pd(d1z, d2y), zx = _mm_mul_pd(d1z, d2x),
+                    xz = _mm_mul_pd(d1x, d2z), xy = _mm_mul_pd(d1x, d2y), yx = _mm_mul_pd(d1y, d2x);
+      const __m128d sign = _mm_set1_pd(-0.0);
+      const int k = 2 * h;
+      _mm_store_pd(ax + k, f0x);
+      _mm_store_pd(ay + k, f0y);
+      _mm_store_pd(az + k, f0z);
+      _mm_store_pd(nx + k, _mm_sub_pd(yz, zy));
+      _mm_store_pd(ny + k, _mm_sub_pd(zx, xz));
+      _mm_store_pd(nz + k, _mm_sub_pd(xy, yx));
+      _mm_store_pd(px + k, _mm_add_pd(_mm_andnot_pd(sign, yz), _mm_andnot_pd(sign, zy)));
+      _mm_store_pd(py + k, _mm_add_pd(_mm_andnot_pd(sign, zx), _mm_andnot_pd(sign, xz)));
+      _mm_store_pd(pz + k, _mm_add_pd(_mm_andnot_pd(sign, xy), _mm_andnot_pd(sign, yx)));
+    }
+    for (int k = 0; k < 4; ++k) {
+      vx[k] = r[k].x, vy[k] = r[k].y, vz[k] = r[k].z;
+      scale[k] = (k % 2 == 0) ? -inv : inv;
+    }
+#else
     for (int k = 0; k < 4; ++k) {
       vx[k] = r[k].x, vy[k] = r[k].y, vz[k] = r[k].z;
       const Vec3 f0 = r[kFaceVerts[k][0]];
@@ -1220,6 +1252,7 @@ struct BarycentricMap {
       // (r_k - f0) . n_k = orient3d(f0, f1, f2, r_k) = (-1)^(k+1) det6.
       scale[k] = (k % 2 == 0) ? -inv : inv;
     }
+#endif
   }
 
   // Coordinate k: with w = u - a_k, det = w . n_k (evaluated as (w.x n.x + w.y n.y) + w.z n.z)
