@@ -920,11 +920,28 @@ bool build_facets_walk(KernelResult& r) {
 // next corner is (xor of c's two neighbours on a) xor the previous one. The first step from
 // the start corner goes where the label walk goes (across the planes a and the label of start
 // that is neither a nor the first other one), so the cycles, their directions and the fan
-// volumes are the same, operation for operation.
-template <bool kVolume>
+// volumes are the same, operation for operation. With kMoments the walk also computes what
+// reference_moments computes after the label walk (the same triangles in the same order).
+enum FacetMode { kFacetsOnly, kFacetsVolume, kFacetsMoments };
+template <bool kMoments>
+void reference_moments(KernelResult& r);
+
+template <FacetMode kMode>
+bool facets_by_label_walk(KernelResult& r) {
+  if constexpr (kMode == kFacetsMoments) {
+    if (!build_facets_walk<false>(r)) return false;
+    reference_moments<true>(r);
+    return true;
+  } else {
+    return build_facets_walk<kMode == kFacetsVolume>(r);
+  }
+}
+
+template <FacetMode kMode>
 bool build_facets(KernelResult& r) {
+  constexpr bool kVolume = kMode != kFacetsOnly, kMoments = kMode == kFacetsMoments;
   const int n = r.num_corners;
-  if (n < 4) return build_facets_walk<kVolume>(r);
+  if (n < 4) return facets_by_label_walk<kMode>(r);
   u8 nb[KernelResult::kMaxCorners][2];  // nb[c][0], nb[c][1]: across the edges off l0, off l1
   u8 across[KernelResult::kMaxCorners][8];  // [c][a]: xor of c's two neighbours on facet a
   unsigned bad = 0;
@@ -947,7 +964,7 @@ bool build_facets(KernelResult& r) {
     if constexpr (kVolume)
       for (int k = 0; k < 3; ++k) o[k] += r.corners[c].bary[k + 1];
   }
-  if (bad) return build_facets_walk<kVolume>(r);
+  if (bad) return facets_by_label_walk<kMode>(r);
   if constexpr (kVolume) {
     const double inv = 1.0 / n;
     for (double& x : o) x *= inv;
@@ -959,7 +976,7 @@ bool build_facets(KernelResult& r) {
   };
   r.num_facets = 0;
   r.facet_begin[0] = 0;
-  double vol6 = 0.0;
+  double vol6 = 0.0, m[3] = {0.0, 0.0, 0.0};
   int used = 0;
   unsigned planes = 0;
   for (int a = 0; a < 8; ++a) planes |= unsigned(r.on_plane[a] != 0) << a;
@@ -971,7 +988,7 @@ bool build_facets(KernelResult& r) {
     r.facet_index[used++] = static_cast<u8>(start);
     r.facet_index[used++] = static_cast<u8>(first);
     std::uint32_t visited = (1u << start) | (1u << first);
-    double fv = 0.0, ax = 0.0, ay = 0.0, az = 0.0, bx = 0.0, by = 0.0, bz = 0.0;
+    double fv = 0.0, ax = 0.0, ay = 0.0, az = 0.0, bx = 0.0, by = 0.0, bz = 0.0, fm[3] = {0.0, 0.0, 0.0};
     if constexpr (kVolume) {
       rel(start, ax, ay, az);
       rel(first, bx, by, bz);
@@ -983,7 +1000,14 @@ bool build_facets(KernelResult& r) {
       if constexpr (kVolume) {
         double cx, cy, cz;
         rel(cur, cx, cy, cz);
-        fv += ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+        const double d = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+        fv += d;
+        if constexpr (kMoments) {
+          const double* p0 = r.corners[start].bary;
+          const double* p1 = r.corners[prev].bary;
+          const double* p2 = r.corners[cur].bary;
+          for (int c = 0; c < 3; ++c) fm[c] += d * (o[c] + p0[c + 1] + p1[c + 1] + p2[c + 1]);
+        }
         bx = cx, by = cy, bz = cz;
       }
       const int next = across[cur][a] ^ prev;
@@ -992,11 +1016,20 @@ bool build_facets(KernelResult& r) {
     }
     // All the plane's corners on one cycle (of at least three, see above).
     if (visited != here) return false;
+    if constexpr (kMoments) {  // as fan_moments
+      r.facet_volume6[r.num_facets] = fv;
+      const double sgn = fv < 0.0 ? -1.0 : 1.0;
+      vol6 += sgn * fv;
+      for (int c = 0; c < 3; ++c) m[c] += sgn * fm[c];
+    } else {
+      vol6 += std::abs(fv);
+    }
     r.facet_label[r.num_facets] = static_cast<u8>(a);
     r.facet_begin[++r.num_facets] = static_cast<u8>(used);
-    vol6 += std::abs(fv);
   }
   if constexpr (kVolume) r.ref_volume = vol6 / 6.0;
+  if constexpr (kMoments)
+    for (int c = 0; c < 3; ++c) r.ref_first[c] = m[c] / 24.0;
   // Euler's formula for a simple polytope: F = V/2 + 2.
   return 2 * r.num_facets == n + 4;
 }
@@ -1362,7 +1395,7 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
       for (int p = 0; p < 4; ++p) scale = std::max(scale, std::abs(C[i][p]));
     res.coordinate_scale = scale;
   }
-  const bool ok = build_facets<!kMoments>(res);
+  const bool ok = build_facets<kMoments ? kFacetsMoments : kFacetsVolume>(res);
   if (!ok) {
     res.num_corners = 0;
     res.num_facets = 0;
@@ -1370,7 +1403,6 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
     res.ref_first[0] = res.ref_first[1] = res.ref_first[2] = 0.0;
     return false;
   }
-  if constexpr (kMoments) reference_moments<true>(res);
   return true;
 }
 
@@ -1422,7 +1454,7 @@ void trace_kernel(const double (&C)[4][4], KernelTrace& t, IntersectionStats* st
       if (x < 3) t.labels[static_cast<std::size_t>(c)][static_cast<std::size_t>(x)] = res.corners[c].labels[x];
       t.bary[static_cast<std::size_t>(c)][static_cast<std::size_t>(x)] = res.corners[c].bary[x];
     }
-  t.consistent = ran && build_facets<false>(res);
+  t.consistent = ran && build_facets<kFacetsOnly>(res);
   if (t.consistent) reference_moments<true>(res);
   t.consistent = t.consistent && (res.num_facets == 0 || orient_facets(res, true));
   t.num_facets = res.num_facets;
