@@ -1018,7 +1018,7 @@ bool build_facets(KernelResult& r) {
     if (visited != here) return false;
     if constexpr (kMoments) {  // as fan_moments
       r.facet_volume6[r.num_facets] = fv;
-      const double sgn = fv < 0.0 ? -1.0 : 1.0;
+      const double sgn = 1.0 - 2.0 * double(fv < 0.0);  // fv < 0.0 ? -1.0 : 1.0, without a branch
       vol6 += sgn * fv;
       for (int c = 0; c < 3; ++c) m[c] += sgn * fm[c];
     } else {
@@ -1040,10 +1040,11 @@ bool build_facets(KernelResult& r) {
 // the moments). The others, the flat facets of degenerate intersections, take the orientation
 // the combinatorics impose, propagated breadth first across shared edges from the oriented
 // ones; with `check`, that propagation runs over every facet and verifies that geometry and
-// labels agree everywhere. Returns false if they do not (never seen in the tests).
-bool orient_facets(KernelResult& r, bool check) {
+// labels agree everywhere. Returns false if they do not (never seen in the tests). dir[f] is
+// -1 for the facets whose stored order must be reversed, +1 for the others.
+bool orient_facet_dirs(const KernelResult& r, bool check, std::int8_t (&dir)[8]) {
   const int F = r.num_facets;
-  std::int8_t dir[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  for (auto& d : dir) d = 0;
   int queue[8], head = 0, tail = 0;
   // In the reference frame every corner lies in Y (coordinates in [0, 1]); a corner computed
   // from X's coordinates is accurate to about the unit roundoff times their magnitude, and so
@@ -1101,7 +1102,14 @@ bool orient_facets(KernelResult& r, bool check) {
         for (int f = 0; f < F; ++f) dir[f] = static_cast<std::int8_t>(-dir[f]);
     }
   }
-  for (int f = 0; f < F; ++f)
+  return true;
+}
+
+// orient_facet_dirs, applied to the stored facets.
+bool orient_facets(KernelResult& r, bool check) {
+  std::int8_t dir[8];
+  if (!orient_facet_dirs(r, check, dir)) return false;
+  for (int f = 0; f < r.num_facets; ++f)
     if (dir[f] < 0) std::reverse(r.facet_index + r.facet_begin[f], r.facet_index + r.facet_begin[f + 1]);
   return true;
 }
@@ -1475,78 +1483,96 @@ struct PolyhedronBuilder {
 
   static bool fill(Polyhedron& P, const detail::Frame& fr, detail::KernelResult& res, bool check) {
     using detail::RawCorner;
-    if (res.num_facets > 0) {
-      if (!detail::orient_facets(res, check)) return false;
-      // Outward in the reference frame; a negatively oriented reference maps outward to
-      // inward, so the facets are then reversed once more.
-      if (fr.det6 < 0.0)
-        for (int f = 0; f < res.num_facets; ++f)
-          std::reverse(res.facet_index + res.facet_begin[f], res.facet_index + res.facet_begin[f + 1]);
-    }
+    std::int8_t dir[8] = {1, 1, 1, 1, 1, 1, 1, 1};
+    if (res.num_facets > 0 && !detail::orient_facet_dirs(res, check, dir)) return false;
+    // Outward in the reference frame; a negatively oriented reference maps outward to inward,
+    // so the facets are then reversed once more.
+    const bool flip_all = fr.det6 < 0.0;
     const Tet& r = *fr.ref;
     const Vec3 a1 = r[1] - r[0], a2 = r[2] - r[0], a3 = r[3] - r[0];
     P.num_corners_ = res.num_corners;
-    const Tet& V = fr.swapped ? *fr.sub : *fr.ref;
+    const bool swapped = fr.swapped;
+    const unsigned relabel = unsigned(swapped) << 2;  // (label + 4) % 8 when U was the reference
+    const Tet& V = swapped ? *fr.sub : *fr.ref;
     std::optional<detail::BarycentricMap> bary_v;  // only for vertices of U inside V
+    unsigned label_zero[8] = {0xFu, 0xFu, 0xFu, 0xFu, 0xFu, 0xFu, 0xFu, 0xFu};  // see touched_v_ below
     for (int c = 0; c < res.num_corners; ++c) {
       const RawCorner& rc = res.corners[c];
       Corner& out = P.corners_[static_cast<std::size_t>(c)];
-      if (rc.kind == detail::kVertexOfX) out.point = (*fr.sub)[rc.index];
-      else if (rc.kind == detail::kVertexOfY) out.point = r[rc.index];
-      else out.point = r[0] + (rc.bary[1] * a1 + rc.bary[2] * a2 + rc.bary[3] * a3);
-      int labels[3];
-      for (int k = 0; k < 3; ++k) labels[k] = fr.swapped ? (rc.labels[k] + 4) % 8 : rc.labels[k];
-      std::sort(labels, labels + 3);
-      for (int k = 0; k < 3; ++k) out.labels[static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(labels[k]);
-      if (!fr.swapped) {
+      // A vertex of X or Y is the input vertex itself; other corners by eq. (3). Chosen by
+      // index rather than by a branch on the kind.
+      const Vec3 mapped = r[0] + (rc.bary[1] * a1 + rc.bary[2] * a2 + rc.bary[3] * a3);
+      const Vec3* const point[4] = {&(*fr.sub)[rc.index & 3], &mapped, &mapped, &r[rc.index & 3]};
+      out.point = *point[rc.kind];
+      // The labels relative to the caller's order, ascending (a sorting network).
+      const auto min = [](unsigned x, unsigned y) { return y ^ ((x ^ y) & (0u - unsigned(x < y))); };
+      const auto max = [](unsigned x, unsigned y) { return x ^ ((x ^ y) & (0u - unsigned(x < y))); };
+      const unsigned k0 = rc.labels[0] ^ relabel, k1 = rc.labels[1] ^ relabel, k2 = rc.labels[2] ^ relabel;
+      const unsigned l0 = min(min(k0, k1), k2), l2 = max(max(k0, k1), k2);
+      const unsigned l1 = k0 ^ k1 ^ k2 ^ l0 ^ l2;  // the remaining one
+      out.labels = {static_cast<std::uint8_t>(l0), static_cast<std::uint8_t>(l1), static_cast<std::uint8_t>(l2)};
+      if (!swapped) {
         // The kernel's coordinates sum to 1 up to the conditioning of the map; the reported
         // ones are scaled to sum to 1 (zeros stay exact zeros): they are P1 basis values.
         const double inv = 1.0 / (rc.bary[0] + rc.bary[1] + rc.bary[2] + rc.bary[3]);
         for (int p = 0; p < 4; ++p) out.bary[static_cast<std::size_t>(p)] = rc.bary[p] * inv;
-        continue;
-      }
-      // The reference was U: V's coordinates come from the point itself, with the coordinates
-      // of V's planes the corner lies on set to exactly zero, then clamped into the simplex
-      // (the corner is on V by construction).
-      double b[4];
-      if (rc.kind != detail::kVertexOfY) {
-        for (int p = 0; p < 4; ++p) b[p] = rc.weights[p];  // X is V: its weights are V's coordinates
       } else {
-        if (!bary_v) bary_v.emplace(V, orient3d(V[0], V[1], V[2], V[3]));
-        (*bary_v)(out.point, b);
+        // The reference was U: V's coordinates come from the point itself, with the coordinates
+        // of V's planes the corner lies on set to exactly zero, then clamped into the simplex
+        // (the corner is on V by construction).
+        double b[4];
+        if (rc.kind != detail::kVertexOfY) {
+          for (int p = 0; p < 4; ++p) b[p] = rc.weights[p];  // X is V: its weights are V's coordinates
+        } else {
+          if (!bary_v) bary_v.emplace(V, orient3d(V[0], V[1], V[2], V[3]));
+          (*bary_v)(out.point, b);
+        }
+        const unsigned on_plane = ((1u << l0) | (1u << l1) | (1u << l2)) >> 4;  // labels 4 + p
+        double sum = 0.0;
+#if TETIA_KERNEL_SSE2
+        {  // b[p] > 0 and p not a plane of the corner, else 0; as the loop below
+          const __m128i off = _mm_set_epi64x(-std::int64_t((on_plane >> 1) & 1u), -std::int64_t(on_plane & 1u));
+          const __m128i off2 = _mm_set_epi64x(-std::int64_t((on_plane >> 3) & 1u), -std::int64_t((on_plane >> 2) & 1u));
+          const __m128d z = _mm_setzero_pd(), b01 = _mm_loadu_pd(b), b23 = _mm_loadu_pd(b + 2);
+          _mm_storeu_pd(b, _mm_andnot_pd(_mm_castsi128_pd(off), _mm_and_pd(_mm_cmpgt_pd(b01, z), b01)));
+          _mm_storeu_pd(b + 2, _mm_andnot_pd(_mm_castsi128_pd(off2), _mm_and_pd(_mm_cmpgt_pd(b23, z), b23)));
+        }
+        for (int p = 0; p < 4; ++p) sum += b[p];
+#else
+        for (int p = 0; p < 4; ++p) {
+          b[p] = ((on_plane >> p) & 1u) || !(b[p] > 0.0) ? 0.0 : b[p];
+          sum += b[p];
+        }
+#endif
+        for (int p = 0; p < 4; ++p) out.bary[static_cast<std::size_t>(p)] = sum > 0.0 ? b[p] / sum : 0.25;
       }
-      double sum = 0.0;
-      for (int p = 0; p < 4; ++p) {
-        bool on_plane = false;
-        for (int k = 0; k < 3; ++k) on_plane |= labels[k] == 4 + p;
-        if (on_plane || !(b[p] > 0.0)) b[p] = 0.0;
-        sum += b[p];
-      }
-      for (int p = 0; p < 4; ++p) out.bary[static_cast<std::size_t>(p)] = sum > 0.0 ? b[p] / sum : 0.25;
-    }
-    // Which of V's barycentric coordinates are exactly zero, per corner.
-    unsigned zero[detail::KernelResult::kMaxCorners];
-    for (int c = 0; c < res.num_corners; ++c) {
-      const auto& b = P.corners_[static_cast<std::size_t>(c)].bary;
-      zero[c] = unsigned(b[0] == 0.0) | unsigned(b[1] == 0.0) << 1 | unsigned(b[2] == 0.0) << 2 |
-                unsigned(b[3] == 0.0) << 3;
+      // Which of V's barycentric coordinates are exactly zero, for every plane of the corner.
+      const auto& b = out.bary;
+      const unsigned zero = unsigned(b[0] == 0.0) | unsigned(b[1] == 0.0) << 1 | unsigned(b[2] == 0.0) << 2 |
+                            unsigned(b[3] == 0.0) << 3;
+      for (int k = 0; k < 3; ++k) label_zero[rc.labels[k]] &= zero;
     }
     P.num_facets_ = res.num_facets;
     P.touched_v_ = 0;
     for (int f = 0; f <= res.num_facets; ++f) P.facet_begin_[static_cast<std::size_t>(f)] = res.facet_begin[f];
-    for (int k = 0; k < res.facet_begin[res.num_facets]; ++k)
-      P.facet_index_[static_cast<std::size_t>(k)] = res.facet_index[k];
+    int offset[8], step[8];  // position k of facet f reads the stored index offset + step * k
     for (int f = 0; f < res.num_facets; ++f) {
-      const int label = fr.swapped ? (res.facet_label[f] + 4) % 8 : res.facet_label[f];
+      const unsigned kernel_label = res.facet_label[f], label = kernel_label ^ relabel;
       P.facet_label_[static_cast<std::size_t>(f)] = static_cast<std::uint8_t>(label);
-      if (label >= 4) {
-        P.touched_v_ |= 1u << (label - 4);
-        continue;
-      }
-      // A facet of U lying in a plane of V: every corner has that coordinate exactly zero.
-      unsigned all_zero = 0xFu;
-      for (int k = res.facet_begin[f]; k < res.facet_begin[f + 1]; ++k) all_zero &= zero[res.facet_index[k]];
-      P.touched_v_ |= all_zero;
+      // A facet of V (label 4 + k), or a facet of U lying in a plane of V: every corner has
+      // that coordinate exactly zero.
+      const unsigned of_v = 0u - (label >> 2);
+      P.touched_v_ |= (of_v & (1u << (label & 3u))) | (~of_v & label_zero[kernel_label]);
+      // Stored in walking order; reversed where orient_facet_dirs says so, and once more for a
+      // negatively oriented reference.
+      const int flip = int((dir[f] < 0) != flip_all);
+      offset[f] = flip * (res.facet_begin[f] + res.facet_begin[f + 1] - 1);
+      step[f] = 1 - 2 * flip;
+    }
+    // One pass over all the facets' positions (each facet has at least three).
+    for (int k = 0, f = 0, total = res.facet_begin[res.num_facets]; k < total; ++k) {
+      f += int(k == res.facet_begin[f + 1]);
+      P.facet_index_[static_cast<std::size_t>(k)] = res.facet_index[offset[f] + step[f] * k];
     }
     P.moments_ = detail::original_moments(fr, res);
     return true;
