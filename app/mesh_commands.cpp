@@ -298,7 +298,8 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
   }
   SupermeshOptions options;
   options.threads = cmd.threads;
-  options.keep_polyhedra = cmd.order == 1;
+  // P1 (and its --matrix) needs each piece's local mixed mass matrix, not the polyhedron itself.
+  options.keep_mixed_mass = cmd.order == 1;
   const auto s = supermesh(source, target, options);
   P1RemapReport report;
   const std::vector<double> out = cmd.order == 0 ? remap_p0(s, values) : remap_p1(s, values, &report);
@@ -350,7 +351,7 @@ void demo_case(const std::string& name, const Mesh& a, const Mesh& b, bool same_
     const Mesh& tgt = dir == 0 ? b : a;
     SupermeshOptions options;
     options.threads = cmd.threads;
-    options.keep_polyhedra = true;
+    options.keep_mixed_mass = true;  // P1: the local mixed mass matrices (no shapes are written)
     const auto s = supermesh(src, tgt, options);
     // For the same domain the overlap is the mesh volume; for different domains it is not known
     // exactly (curved, discretized), so no error is printed there.

@@ -3,11 +3,12 @@
 // the file writers are written once as templates over it (not installed, not public API).
 //
 // Contract: Dim<Mesh> names the types of one dimension (point, cell, supermesh piece, kernel
-// result, supermesh) and gives uniform access to what is spelled differently (volumes / areas,
-// polyhedra / polygons, Vec3 / Vec2 coordinates). Everything here is a trivial forwarding
-// function; the logic lives in the templates that use it.
+// result, supermesh, a piece's local mixed mass matrix) and gives uniform access to what is
+// spelled differently (volumes / areas, polyhedra / polygons, Vec3 / Vec2 coordinates).
+// Everything here is a trivial forwarding function; the logic lives in the templates that use it.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -34,6 +35,7 @@ struct Dim<TetMesh> {
   using Shape = Polyhedron;
   using Piece = SupermeshPiece;
   using Result = Supermesh;
+  using LocalMass = std::array<double, 16>;  // a piece's mixed mass matrix, row-major
   static constexpr const char* cells_word = "tetrahedra";
   static constexpr const char* facet_word = "a face";
 
@@ -47,6 +49,8 @@ struct Dim<TetMesh> {
   static Piece piece(std::int32_t s, std::int32_t t, const Moments& m) { return {s, t, m.volume, m.first}; }
   static const std::vector<Shape>& shapes(const Result& r) { return r.polyhedra; }
   static std::vector<Shape>& shapes(Result& r) { return r.polyhedra; }
+  static const std::vector<LocalMass>& local_mass(const Result& r) { return r.local_mass; }
+  static std::vector<LocalMass>& local_mass(Result& r) { return r.local_mass; }
 };
 
 template <>
@@ -60,6 +64,7 @@ struct Dim<TriMesh> {
   using Shape = Polygon;
   using Piece = SupermeshPiece2;
   using Result = Supermesh2;
+  using LocalMass = std::array<double, 9>;
   static constexpr const char* cells_word = "triangles";
   static constexpr const char* facet_word = "an edge";
 
@@ -73,6 +78,8 @@ struct Dim<TriMesh> {
   static Piece piece(std::int32_t s, std::int32_t t, const Moments& m) { return {s, t, m.area, m.first}; }
   static const std::vector<Shape>& shapes(const Result& r) { return r.polygons; }
   static std::vector<Shape>& shapes(Result& r) { return r.polygons; }
+  static const std::vector<LocalMass>& local_mass(const Result& r) { return r.local_mass; }
+  static std::vector<LocalMass>& local_mass(Result& r) { return r.local_mass; }
 };
 
 }  // namespace tetia::detail

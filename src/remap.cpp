@@ -5,9 +5,10 @@
 // One implementation for both dimensions: templates over the mesh type (src/dimension.hpp).
 // The products of two linear functions on a simplex of dimension d integrate to
 // |S| / ((d + 1)(d + 2)) (sum_v f_v g_v + (sum_v f_v)(sum_v g_v)): 1/20 in 3D, 1/12 in 2D; the
-// consistent mass matrix is the case f = g = basis functions. Only the side test of a corner
-// (barycentric coordinates from orient3d / orient2d), the simplices of a kernel result and the
-// quadrature rule are written per dimension.
+// consistent mass matrix is the case f = g = basis functions. A piece's local mixed mass matrix
+// is computed in src/mixed_mass.hpp (shared with the supermesh, which can keep it instead of
+// the polyhedron: SupermeshOptions::keep_mixed_mass); the quadrature rule is written per
+// dimension here.
 #include "tetia/remap.hpp"
 
 #include <algorithm>
@@ -23,6 +24,7 @@
 #include <Eigen/SparseCore>
 
 #include "dimension.hpp"
+#include "mixed_mass.hpp"
 
 namespace tetia {
 
@@ -37,13 +39,19 @@ void check_meshes(const Result& s, const char* who) {
     throw std::invalid_argument(std::string("tetia: ") + who + ": the supermesh has no source or target mesh");
 }
 
+// Where the local mixed mass matrices come from: kept by the supermesh (keep_mixed_mass), else
+// computed from its kept polyhedra / polygons (keep_polyhedra), the same numbers bit for bit.
+enum class MassSource { local_mass, shapes };
+
 template <class Mesh>
-void check_shapes(const typename detail::Dim<Mesh>::Result& s, const char* who) {
+MassSource check_mass_source(const typename detail::Dim<Mesh>::Result& s, const char* who) {
+  using Dm = detail::Dim<Mesh>;
   check_meshes(s, who);
-  if (detail::Dim<Mesh>::shapes(s).size() != s.pieces.size())
-    throw std::invalid_argument(std::string("tetia: ") + who + ": the supermesh has no " +
-                                (detail::Dim<Mesh>::d == 3 ? "polyhedra" : "polygons") +
-                                "; build it with SupermeshOptions::keep_polyhedra = true");
+  if (Dm::local_mass(s).size() == s.pieces.size()) return MassSource::local_mass;
+  if (Dm::shapes(s).size() == s.pieces.size()) return MassSource::shapes;
+  throw std::invalid_argument(std::string("tetia: ") + who + ": the supermesh has no local mixed mass matrices and no " +
+                              (Dm::d == 3 ? "polyhedra" : "polygons") +
+                              "; build it with SupermeshOptions::keep_mixed_mass = true (or keep_polyhedra = true)");
 }
 
 void check_size(std::size_t got, std::size_t want, const char* who, const char* what) {
@@ -54,114 +62,31 @@ void check_size(std::size_t got, std::size_t want, const char* who, const char* 
 
 std::size_t idx(std::int32_t i) { return static_cast<std::size_t>(i); }
 
-// Barycentric coordinates of p in U, not normalized for rounding (det is U's determinant).
-std::array<double, 4> barycentric(const Tet& U, Vec3 p, double det) {
-  return {orient3d(p, U[1], U[2], U[3]) / det, orient3d(U[0], p, U[2], U[3]) / det,
-          orient3d(U[0], U[1], p, U[3]) / det, orient3d(U[0], U[1], U[2], p) / det};
-}
-std::array<double, 3> barycentric(const Triangle& U, Vec2 p, double det) {
-  return {orient2d(p, U[1], U[2]) / det, orient2d(U[0], p, U[2]) / det, orient2d(U[0], U[1], p) / det};
-}
-double determinant(const Tet& U) { return orient3d(U[0], U[1], U[2], U[3]); }
-double determinant(const Triangle& U) { return orient2d(U[0], U[1], U[2]); }
-
-// The simplices of a kernel result as corner indices, each with its weight |S| / ((d+1)(d+2))
-// (the factor of the exact product rule, see the top), computed as one determinant divided by
-// d! (d+1) (d+2). A polyhedron: the fan from corner 0 over the facets that do not contain it
-// (facets are counter-clockwise seen from outside, so the determinants are positive).
-template <class F>
-void for_each_simplex(const Polyhedron& P, F&& f) {
-  const Vec3 apex = P.corner(0).point;
-  for (int fa = 0; fa < P.num_facets(); ++fa) {
-    const auto ids = P.facet(fa);
-    if (std::find(ids.begin(), ids.end(), std::uint8_t{0}) != ids.end()) continue;
-    for (std::size_t k = 1; k + 1 < ids.size(); ++k) {
-      const std::array<int, 4> v = {0, ids[0], ids[k], ids[k + 1]};
-      f(v, orient3d(apex, P.corner(v[1]).point, P.corner(v[2]).point, P.corner(v[3]).point) / 120.0);
-    }
-  }
-}
-// A polygon: the fan from corner 0 (corners are counter-clockwise).
-template <class F>
-void for_each_simplex(const Polygon& P, F&& f) {
-  const Vec2 apex = P.corner(0).point;
-  for (int k = 1; k + 1 < P.num_corners(); ++k) {
-    const std::array<int, 3> v = {0, k, k + 1};
-    f(v, orient2d(apex, P.corner(k).point, P.corner(k + 1).point) / 24.0);
-  }
-}
-
+// M_ts from the pieces' local mixed mass matrices (src/mixed_mass.hpp), kept or computed here
+// from the kept shapes; the triplets come in the same order either way, so the sums are too.
 template <class Mesh>
-using CornerBary = std::array<std::array<double, detail::Dim<Mesh>::nv>, detail::Dim<Mesh>::Shape::max_corners>;
-
-// Barycentric coordinates of the corners of a piece in its source cell U: computed from the
-// point, with the coordinates of U's facets the corner lies on (labels below nv) set to exactly
-// zero, negatives (rounding) clamped, scaled to sum to 1.
-template <class Mesh>
-void source_bary(const typename detail::Dim<Mesh>::Cell& U, const typename detail::Dim<Mesh>::Shape& P,
-                 CornerBary<Mesh>& out) {
-  constexpr std::size_t nv = detail::Dim<Mesh>::nv;
-  const double det = determinant(U);
-  for (int c = 0; c < P.num_corners(); ++c) {
-    const auto& k = P.corner(c);
-    auto b = barycentric(U, k.point, det);
-    for (const auto l : k.labels)
-      if (l < nv) b[l] = 0.0;
-    double sum = 0.0;
-    for (double& x : b) {
-      if (!(x > 0.0)) x = 0.0;
-      sum += x;
-    }
-    auto& o = out[static_cast<std::size_t>(c)];
-    for (std::size_t q = 0; q < nv; ++q) o[q] = sum > 0.0 ? b[q] / sum : 1.0 / static_cast<double>(nv);
-  }
-}
-
-// Local mixed mass matrix of one piece: A[i][j] = integral over the piece of (target basis i) x
-// (source basis j), exact for the product of two linear functions on each simplex.
-template <class Mesh>
-void local_mixed(const typename detail::Dim<Mesh>::Shape& P, const CornerBary<Mesh>& sb,
-                 double (&A)[detail::Dim<Mesh>::nv][detail::Dim<Mesh>::nv]) {
-  constexpr std::size_t nv = detail::Dim<Mesh>::nv;
-  for (auto& row : A)
-    for (double& x : row) x = 0.0;
-  for_each_simplex(P, [&](const std::array<int, nv>& v, double w) {
-    double F[nv] = {}, G[nv] = {}, FG[nv][nv] = {};
-    for (const int c : v) {
-      const auto& f = P.corner(c).bary;
-      const auto& g = sb[static_cast<std::size_t>(c)];
-      for (std::size_t i = 0; i < nv; ++i) {
-        F[i] += f[i];
-        G[i] += g[i];
-        for (std::size_t j = 0; j < nv; ++j) FG[i][j] += f[i] * g[j];
-      }
-    }
-    for (std::size_t i = 0; i < nv; ++i)
-      for (std::size_t j = 0; j < nv; ++j) A[i][j] += w * (FG[i][j] + F[i] * G[j]);
-  });
-}
-
-template <class Mesh>
-SpMat mixed_mass(const typename detail::Dim<Mesh>::Result& s) {
+SpMat mixed_mass(const typename detail::Dim<Mesh>::Result& s, MassSource from) {
   using Dm = detail::Dim<Mesh>;
   constexpr std::size_t nv = Dm::nv;
   const Mesh& src = *s.source;
   const Mesh& tgt = *s.target;
   const auto& shapes = Dm::shapes(s);
+  const auto& kept = Dm::local_mass(s);
   std::vector<Triplet> trip;
   trip.reserve(s.pieces.size() * nv * nv);
-  CornerBary<Mesh> sb{};
-  double A[nv][nv];
+  typename Dm::LocalMass local{};
   for (std::size_t k = 0; k < s.pieces.size(); ++k) {
     const auto& pc = s.pieces[k];
-    const auto& P = shapes[k];
-    if (P.empty()) continue;
-    source_bary<Mesh>(src.cell(idx(pc.source)), P, sb);
-    local_mixed<Mesh>(P, sb, A);
+    if (from == MassSource::shapes) {
+      const auto& P = shapes[k];
+      if (P.empty()) continue;  // never for a piece of positive volume
+      detail::piece_mixed_mass<Mesh>(src.cell(idx(pc.source)), P, local);
+    }
+    const auto& A = from == MassSource::local_mass ? kept[k] : local;
     const auto& tn = tgt.cells[idx(pc.target)];
     const auto& sn = src.cells[idx(pc.source)];
     for (std::size_t i = 0; i < nv; ++i)
-      for (std::size_t j = 0; j < nv; ++j) trip.emplace_back(tn[i], sn[j], A[i][j]);
+      for (std::size_t j = 0; j < nv; ++j) trip.emplace_back(tn[i], sn[j], A[i * nv + j]);
   }
   SpMat M(static_cast<Eigen::Index>(tgt.num_nodes()), static_cast<Eigen::Index>(src.num_nodes()));
   M.setFromTriplets(trip.begin(), trip.end());
@@ -283,9 +208,9 @@ std::vector<double> p0(const typename detail::Dim<Mesh>::Result& s, std::span<co
 template <class Mesh>
 std::vector<double> p1(const typename detail::Dim<Mesh>::Result& s, std::span<const double> values,
                        P1RemapReport* report) {
-  check_shapes<Mesh>(s, "remap_p1");
+  const MassSource from = check_mass_source<Mesh>(s, "remap_p1");
   check_size(values.size(), s.source->num_nodes(), "remap_p1", "source node");
-  const SpMat Mts = mixed_mass<Mesh>(s);
+  const SpMat Mts = mixed_mass<Mesh>(s, from);
   const SpMat Mt = mass_matrix(*s.target);
   const Eigen::Map<const Eigen::VectorXd> us(values.data(), static_cast<Eigen::Index>(values.size()));
   const Eigen::VectorXd b = Mts * us;
@@ -307,8 +232,8 @@ std::vector<double> p1(const typename detail::Dim<Mesh>::Result& s, std::span<co
 
 template <class Mesh>
 void write_mixed(const typename detail::Dim<Mesh>::Result& s, const std::filesystem::path& file) {
-  check_shapes<Mesh>(s, "write_mixed_mass_matrix");
-  const Eigen::SparseMatrix<double, Eigen::RowMajor> M = mixed_mass<Mesh>(s);
+  const MassSource from = check_mass_source<Mesh>(s, "write_mixed_mass_matrix");
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> M = mixed_mass<Mesh>(s, from);
   const std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(file.c_str(), "w"), &std::fclose);
   if (!f) throw std::runtime_error("tetia: " + file.string() + ": cannot open for writing");
   std::fprintf(f.get(), "%%%%MatrixMarket matrix coordinate real general\n");

@@ -54,6 +54,11 @@
 // same arguments whatever the order, and the pieces are sorted by (target, source) at the end,
 // so the result, including `candidates`, is the same bit for bit for any number of threads.
 // No allocation per pair: each thread keeps its buffers and its pieces until the final merge.
+//
+// Kept data: keep_polyhedra stores the kernel's whole polyhedron (polygon) per piece;
+// keep_mixed_mass calls the same full kernel, computes the piece's local mixed mass matrix from
+// the polyhedron while it is at hand (src/mixed_mass.hpp, the function the remap uses on kept
+// polyhedra) and stores only those 16 (9) numbers, merged in the same order as the pieces.
 #include "tetia/supermesh.hpp"
 
 #include <omp.h>
@@ -77,6 +82,7 @@
 #include <boost/geometry/index/rtree.hpp>
 
 #include "dimension.hpp"
+#include "mixed_mass.hpp"
 #include "tetia/tet_intersection.hpp"
 #include "tetia/tri_intersection.hpp"
 
@@ -264,7 +270,8 @@ struct Shared {
   const typename Tree<Dm::d>::RTree& tree;
   const std::vector<Box<Dm::d>>& target_box;
   const std::vector<std::uint8_t>& risky;  // target has a boundary face or a flat neighbour
-  bool keep;
+  bool keep_shapes;  // keep the polyhedra (polygons)
+  bool keep_mass;    // keep each piece's local mixed mass matrix
   // Per source cell, written only by the thread that owns its chunk.
   std::vector<std::uint8_t>& state;  // 0 unvisited, 1 queued, 2 done
   std::vector<std::int32_t>& parent;
@@ -275,14 +282,15 @@ struct Shared {
   const std::vector<std::int32_t>& rank;
 };
 
-// Per-thread work space, reused across chunks and cells. The pieces (and polyhedra) of all the
-// chunks a thread runs stay in its own storage until the final merge.
+// Per-thread work space, reused across chunks and cells. The pieces (and polyhedra, local mixed
+// mass matrices) of all the chunks a thread runs stay in its own storage until the final merge.
 template <class Mesh>
 class Worker {
   using Dm = detail::Dim<Mesh>;
   using Cell = typename Dm::Cell;
   using Piece = typename Dm::Piece;
   using Shape = typename Dm::Shape;
+  using LocalMass = typename Dm::LocalMass;
   using TreeT = Tree<Dm::d>;
 
  public:
@@ -290,6 +298,7 @@ class Worker {
 
   const std::vector<Piece>& pieces() const { return pieces_; }
   const std::vector<Shape>& shapes() const { return shapes_; }
+  const std::vector<LocalMass>& local_mass() const { return mass_; }
 
   void run_chunk(Chunk& ch, int id, CandidateSearch search) {
     ch.worker = id;
@@ -363,12 +372,19 @@ class Worker {
     T_ = sh_.target.cell(static_cast<std::size_t>(t));
     const double floor = kResolution * std::min(svol_, Dm::measures(sh_.target)[static_cast<std::size_t>(t)]);
     typename Dm::Moments m;
-    if (sh_.keep) {
+    if (sh_.keep_shapes || sh_.keep_mass) {
       shape_ = intersect(S_, T_);
       if (!(Dm::measure(shape_.moments()) > floor)) return false;
       m = shape_.moments();
-      reserve_for_one_more(shapes_);
-      shapes_.push_back(shape_);
+      if (sh_.keep_shapes) {
+        reserve_for_one_more(shapes_);
+        shapes_.push_back(shape_);
+      }
+      if (sh_.keep_mass) {
+        reserve_for_one_more(mass_);
+        mass_.emplace_back();
+        detail::piece_mixed_mass<Mesh>(S_, shape_, mass_.back());
+      }
     } else {
       m = intersection_moments(S_, T_);
       if (!(Dm::measure(m) > floor)) return false;
@@ -468,6 +484,7 @@ class Worker {
   std::vector<typename TreeT::Value> hits_;
   std::vector<Piece> pieces_;
   std::vector<Shape> shapes_;
+  std::vector<LocalMass> mass_;  // parallel to pieces_ when kept
   std::size_t candidates_ = 0;
   bool risky_hit_ = false;
   double covered_ = 0.0;  // volume of s's pieces found so far
@@ -562,7 +579,7 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
   // queries). The order depends on the mesh only: results stay identical for any thread count.
   std::vector<std::int32_t> order, rank;
   morton_order(source, order, rank);
-  const Shared<Mesh> sh{source, target, tree, target_box, risky, options.keep_polyhedra,
+  const Shared<Mesh> sh{source, target, tree, target_box, risky, options.keep_polyhedra, options.keep_mixed_mass,
                         state, parent, piece_begin, piece_count, order, rank};
 
   // Chunks of consecutive positions in that order; their number depends on the mesh only.
@@ -585,7 +602,8 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
   }
 
   // Counting sort by target of references to the pieces (chunk order), then by source within
-  // each target (segments are short), then one gather: pieces and polyhedra are copied once.
+  // each target (segments are short), then one gather: pieces, polyhedra and local mixed mass
+  // matrices are copied once.
   struct Ref {
     std::int32_t source;
     std::int32_t worker;
@@ -613,6 +631,12 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
   }
   reserve_huge(out.pieces, total);
   out.pieces.resize(total);
+  auto& mass = Dm::local_mass(out);
+  if (options.keep_mixed_mass) {
+    reserve_huge(mass, total);
+    mass.resize(total);
+  }
+  const bool gather_mass = options.keep_mixed_mass;
   const auto total_i = static_cast<std::int64_t>(total);
 #pragma omp parallel num_threads(threads)
   {
@@ -625,7 +649,9 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
 #pragma omp for schedule(static)
     for (std::int64_t k = 0; k < total_i; ++k) {
       const Ref& r = refs[static_cast<std::size_t>(k)];
-      out.pieces[static_cast<std::size_t>(k)] = workers[static_cast<std::size_t>(r.worker)]->pieces()[r.index];
+      const auto& w = *workers[static_cast<std::size_t>(r.worker)];
+      out.pieces[static_cast<std::size_t>(k)] = w.pieces()[r.index];
+      if (gather_mass) mass[static_cast<std::size_t>(k)] = w.local_mass()[r.index];
     }
   }
   if (options.keep_polyhedra) {

@@ -13,7 +13,9 @@
 // P1 (continuous, nodal) is the Galerkin L2 projection: M_t u_t = M_ts u_s with M_t the target
 // mass matrix and M_ts the mixed mass matrix assembled exactly on the supermesh (products of
 // linear functions integrated exactly on a tetrahedralization of each piece), solved by
-// conjugate gradients. It needs the supermesh built with keep_polyhedra. M_t is the full
+// conjugate gradients. It needs the supermesh built with keep_mixed_mass (the pieces' local
+// mixed mass matrices, used when present) or keep_polyhedra (the matrices computed here from
+// the polyhedra); both give the same results bit for bit. M_t is the full
 // (consistent) target mass matrix, so the source field again counts as zero outside its domain:
 // the integral over the target equals the source integral over the overlap (to the solver
 // tolerance) whatever the coverage, and where the domains coincide linear fields are reproduced;
@@ -48,7 +50,7 @@ std::vector<double> remap_p1(const Supermesh& s, std::span<const double> source_
                              P1RemapReport* report = nullptr);
 
 /// The mixed mass (coupling) matrix M_ts (rows: target nodes, columns: source nodes) in Matrix
-/// Market coordinate format.
+/// Market coordinate format. Needs keep_mixed_mass or keep_polyhedra, as remap_p1.
 void write_mixed_mass_matrix(const Supermesh& s, const std::filesystem::path& file);
 
 /// Integrals of a piecewise constant (per cell) and a continuous piecewise linear (per node) field.
@@ -74,7 +76,7 @@ std::vector<double> remap_p0(const Supermesh2& s, std::span<const double> source
 /// Per target cell, the area the source mesh covers (the sum of its pieces' areas).
 std::vector<double> covered_areas(const Supermesh2& s);
 
-/// Needs the supermesh built with keep_polyhedra (the polygons).
+/// Needs the supermesh built with keep_mixed_mass or keep_polyhedra (the polygons).
 std::vector<double> remap_p1(const Supermesh2& s, std::span<const double> source_node_values,
                              P1RemapReport* report = nullptr);
 
