@@ -14,6 +14,14 @@
 //     non-matching Gmsh meshes of the unit square, the target at h / 1.07, for about 10^4, 10^5
 //     and 10^6 source triangles; the intersection has area 1, checked to 1e-12 relative. File
 //     order only (--order is ignored). Not part of the default run: ask for it with --parts.
+//   Part "p1": what P1 remap needs kept, SupermeshOptions::keep_mixed_mass (each piece's local
+//     mixed mass matrix, 128 B) against keep_polyhedra (each piece's Polyhedron, 2,216 B), on
+//     pyramid x cube and on the box levels up to --max-cells, file order, front search, each
+//     thread count: supermesh wall and CPU time (best of --reps), its peak memory (first run,
+//     result alive), then remap_p1 of sin(3x) cos(2y) exp(z) from that result (one run); for
+//     reference also the supermesh keeping neither (pieces only: what P0 needs). The
+//     two ways must give the same remapped values bit for bit (else exit 1). Not part of the
+//     default run: --parts=p1 (with --max-cells=1e5 for pyramid x cube and boxes to 10^5).
 //
 // Each case runs front and R-tree search on 1 and 2 threads, best wall time of --reps runs (one
 // run only once a run takes more than --long seconds). For each it prints wall and CPU time
@@ -25,7 +33,7 @@
 // between the searches and thread counts; a mismatch or a wrong volume makes the program exit
 // with 1.
 //
-// Usage: bench_supermesh [--max-cells=N] [--reps=R] [--long=S] [--parts=pyramid,boxes,rect2d]
+// Usage: bench_supermesh [--max-cells=N] [--reps=R] [--long=S] [--parts=pyramid,boxes,rect2d,p1]
 //                        [--order=file,morton] [--threads=1,2] [--extdata=DIR] [--cache=DIR]
 //   --max-cells  skip box levels with more than N source cells (nominal: 10^3 ... 10^6);
 //                default 1000000
@@ -59,6 +67,7 @@
 
 #include "tetia/io.hpp"
 #include "tetia/mesh.hpp"
+#include "tetia/remap.hpp"
 #include "tetia/supermesh.hpp"
 
 #ifndef TETIA_SHARED_DIR
@@ -76,7 +85,7 @@ struct Options {
   std::size_t max_cells = 1000000;
   int reps = 3;
   double long_run = 10.0;
-  bool pyramid = true, boxes = true, rect2d = false;
+  bool pyramid = true, boxes = true, rect2d = false, p1 = false;
   bool file_order = true, morton_order = true;
   std::vector<int> threads{1, 2};
   fs::path extdata = fs::path(TETIA_SHARED_DIR) / "extdata";
@@ -86,7 +95,7 @@ struct Options {
 [[noreturn]] void usage(const char* msg) {
   std::fprintf(stderr,
                "bench_supermesh: %s\nusage: bench_supermesh [--max-cells=N] [--reps=R] [--long=S] "
-               "[--parts=pyramid,boxes,rect2d] [--order=file,morton] [--threads=1,2] [--extdata=DIR] [--cache=DIR]\n",
+               "[--parts=pyramid,boxes,rect2d,p1] [--order=file,morton] [--threads=1,2] [--extdata=DIR] [--cache=DIR]\n",
                msg);
   std::exit(2);
 }
@@ -114,11 +123,12 @@ Options parse(int argc, char** argv) {
       } else if (key == "--long") {
         o.long_run = std::stod(val);
       } else if (key == "--parts") {
-        o.pyramid = o.boxes = o.rect2d = false;
+        o.pyramid = o.boxes = o.rect2d = o.p1 = false;
         for (const auto& p : split(val)) {
           if (p == "pyramid") o.pyramid = true;
           else if (p == "boxes") o.boxes = true;
           else if (p == "rect2d") o.rect2d = true;
+          else if (p == "p1") o.p1 = true;
           else usage(("unknown part " + p).c_str());
         }
       } else if (key == "--order") {
@@ -161,6 +171,16 @@ double cpu_now() {  // CPU time of the whole process, all threads
 // A field of /proc/self/status in bytes (-1 when unavailable: not Linux).
 long long proc_status_bytes(const char* field) {
   std::ifstream in("/proc/self/status");
+  const std::size_t n = std::strlen(field);
+  for (std::string line; std::getline(in, line);)
+    if (line.compare(0, n, field) == 0 && line.size() > n && line[n] == ':')
+      return 1024LL * std::atoll(line.c_str() + n + 1);
+  return -1;
+}
+
+// A field of /proc/meminfo in bytes (-1 when unavailable).
+long long meminfo_bytes(const char* field) {
+  std::ifstream in("/proc/meminfo");
   const std::size_t n = std::strlen(field);
   for (std::string line; std::getline(in, line);)
     if (line.compare(0, n, field) == 0 && line.size() > n && line[n] == ':')
@@ -403,6 +423,120 @@ bool run_case(const std::string& label, const Mesh& src, const Mesh& tgt, double
   return ok && vol_ok;
 }
 
+// --- part "p1": keep_mixed_mass against keep_polyhedra -----------------------------------------
+
+struct P1Row {
+  std::string label, kept;
+  std::size_t ns = 0, nt = 0, pieces = 0;
+  int threads = 1, runs = 0;
+  double wall = 0.0, cpu = 0.0;  // supermesh, fastest run
+  long long peak_extra = -1;     // supermesh, first run, result alive
+  double remap_wall = 0.0;       // remap_p1 from the result of the last run
+  int cg_iterations = 0;
+  std::vector<double> remapped;
+};
+
+enum class Kept { none, mixed_mass, polyhedra };
+
+P1Row measure_p1(const std::string& label, const tetia::TetMesh& src, const tetia::TetMesh& tgt, Kept kept,
+                 int threads, const std::vector<double>& field, const Options& o) {
+  const bool mass = kept == Kept::mixed_mass;
+  P1Row r;
+  r.label = label;
+  r.kept = kept == Kept::none ? "none" : mass ? "mixed_mass" : "polyhedra";
+  r.ns = src.num_cells();
+  r.nt = tgt.num_cells();
+  r.threads = threads;
+  tetia::SupermeshOptions opt;
+  opt.threads = threads;
+  opt.keep_mixed_mass = mass;
+  opt.keep_polyhedra = kept == Kept::polyhedra;
+  for (int rep = 0; rep < o.reps; ++rep) {
+    const bool first = rep == 0;
+    long long before = -1;
+    if (first && reset_peak_memory()) before = proc_status_bytes("VmRSS");
+    const double w0 = wall_now(), c0 = cpu_now();
+    const auto s = tetia::supermesh(src, tgt, opt);
+    const double w = wall_now() - w0, c = cpu_now() - c0;
+    if (first) {
+      const long long peak = proc_status_bytes("VmHWM");
+      if (before >= 0 && peak >= 0) r.peak_extra = peak - before;
+      r.pieces = s.pieces.size();
+    }
+    ++r.runs;
+    if (first || w < r.wall) {
+      r.wall = w;
+      r.cpu = c;
+    }
+    const bool last = rep + 1 == o.reps || (first && w > o.long_run);
+    if (last && kept != Kept::none) {
+      tetia::P1RemapReport report;
+      const double q0 = wall_now();
+      r.remapped = tetia::remap_p1(s, field, &report);
+      r.remap_wall = wall_now() - q0;
+      r.cg_iterations = report.iterations;
+    }
+    if (last) break;
+  }
+  return r;
+}
+
+void print_p1_header() {
+  std::printf("%-16s %9s %9s %-10s %2s %4s %9s %8s %9s %10s %9s %8s %9s %9s\n", "case", "source", "target", "kept",
+              "th", "runs", "pieces", "wall s", "cpu s", "peak MiB", "B/piece", "remap s", "CG iter", "total s");
+}
+
+void print_p1_row(const P1Row& r) {
+  std::printf("%-16s %9zu %9zu %-10s %2d %4d %9zu %8.4f %9.4f ", r.label.c_str(), r.ns, r.nt, r.kept.c_str(), r.threads,
+              r.runs, r.pieces, r.wall, r.cpu);
+  if (r.peak_extra >= 0)
+    std::printf("%10.1f %9.0f", static_cast<double>(r.peak_extra) / (1024.0 * 1024.0),
+                static_cast<double>(r.peak_extra) / static_cast<double>(std::max<std::size_t>(1, r.pieces)));
+  else
+    std::printf("%10s %9s", "n/a", "n/a");
+  if (r.remapped.empty()) std::printf(" %8s %9s %9s\n", "-", "-", "-");
+  else std::printf(" %8.4f %9d %9.4f\n", r.remap_wall, r.cg_iterations, r.wall + r.remap_wall);
+  std::fflush(stdout);
+}
+
+// Both ways on one pair, for each thread count; the remapped values must agree bit for bit.
+bool run_p1_case(const std::string& label, const tetia::TetMesh& src, const tetia::TetMesh& tgt, const Options& o) {
+  std::vector<double> field(src.num_nodes());
+  for (std::size_t n = 0; n < src.num_nodes(); ++n) {
+    const tetia::Vec3 p = src.nodes[n];
+    field[n] = std::sin(3.0 * p.x) * std::cos(2.0 * p.y) * std::exp(p.z);
+  }
+  bool ok = true;
+  std::vector<double> ref;
+  std::size_t pieces = 0;
+  for (const int th : o.threads)
+    for (const Kept kept : {Kept::none, Kept::mixed_mass, Kept::polyhedra}) {
+      // The polyhedra are held twice at the peak (per thread, then merged): skip that run when
+      // it would not fit in the memory available now (the 10^6 boxes need about 85 GB).
+      const double need = 2.0 * static_cast<double>(pieces) * static_cast<double>(sizeof(tetia::Polyhedron));
+      const double avail = static_cast<double>(meminfo_bytes("MemAvailable"));
+      if (kept == Kept::polyhedra && avail > 0.0 && need > 0.8 * avail) {
+        std::printf("%-16s keep_polyhedra, %d threads: skipped (needs about %.1f GB, %.1f GB available)\n",
+                    label.c_str(), th, 1e-9 * need, 1e-9 * avail);
+        continue;
+      }
+      const P1Row r = measure_p1(label, src, tgt, kept, th, field, o);
+      pieces = r.pieces;
+      print_p1_row(r);
+      if (kept == Kept::none) continue;
+      if (ref.empty()) {
+        ref = r.remapped;
+      } else if (r.remapped.size() != ref.size() ||
+                 std::memcmp(r.remapped.data(), ref.data(), ref.size() * sizeof(double)) != 0) {
+        std::printf("  MISMATCH: %s, %s, %d threads: remap_p1 differs\n", label.c_str(), r.kept.c_str(), th);
+        ok = false;
+      }
+    }
+  std::printf("  %s: remap_p1 identical bit for bit with keep_mixed_mass and keep_polyhedra, all thread counts: %s\n",
+              label.c_str(), ok ? "yes" : "NO");
+  return ok;
+}
+
 tetia::TetMesh timed_read(const fs::path& p) {
   const double w0 = wall_now();
   tetia::TetMesh m = tetia::read_mesh(p);
@@ -535,6 +669,40 @@ int main(int argc, char** argv) {
                     mesh_bytes(src) / static_cast<double>(src.num_cells()),
                     mesh_bytes(tgt) / static_cast<double>(tgt.num_cells()));
         run_orders(lv.label, src, tgt, 1.0, 1e-12);
+      }
+    }
+    if (o.p1) {
+      std::printf("P1 remap: SupermeshOptions::keep_mixed_mass (local mixed mass matrices, %zu B per piece) "
+                  "against keep_polyhedra (%zu B per piece); file order, front search\n",
+                  sizeof(decltype(tetia::Supermesh::local_mass)::value_type), sizeof(tetia::Polyhedron));
+      std::printf("kept none: pieces only (P0), for reference; remap s: remap_p1 from the result; total: "
+                  "supermesh (fastest run) + remap\n");
+      const fs::path pyr = o.extdata / "lsm_pyramid_0_05.msh", cube = o.extdata / "lsm_cube_0_05.msh";
+      if (!fs::exists(pyr) || !fs::exists(cube)) {
+        std::printf("pyramid x cube: skipped (%s or %s absent)\n", pyr.string().c_str(), cube.string().c_str());
+      } else {
+        const tetia::TetMesh p = timed_read(pyr), c = timed_read(cube);
+        print_p1_header();
+        ok &= run_p1_case("p1 pyr x cube", p, c, o);
+        std::printf("\n");
+      }
+      struct Level {
+        const char* label;
+        std::size_t nominal;
+        double h;
+      };
+      const Level levels[] = {{"p1 box 1e3", 1000, 0.19}, {"p1 box 1e4", 10000, 0.082}, {"p1 box 1e5", 100000, 0.037},
+                              {"p1 box 1e6", 1000000, 0.0166}};
+      for (const Level& lv : levels) {
+        if (lv.nominal > o.max_cells) {
+          std::printf("%s: skipped (--max-cells=%zu)\n", lv.label, o.max_cells);
+          continue;
+        }
+        const tetia::TetMesh src = cached_box(o, lv.h);
+        const tetia::TetMesh tgt = cached_box(o, lv.h / 1.07);
+        print_p1_header();
+        ok &= run_p1_case(lv.label, src, tgt, o);
+        std::printf("\n");
       }
     }
     if (o.rect2d) {
