@@ -22,7 +22,7 @@
 
 #include <algorithm>
 #include <bit>
-#include <optional>
+#include <new>
 #include <cmath>
 #include <cstdint>
 
@@ -1494,7 +1494,12 @@ struct PolyhedronBuilder {
     const bool swapped = fr.swapped;
     const unsigned relabel = unsigned(swapped) << 2;  // (label + 4) % 8 when U was the reference
     const Tet& V = swapped ? *fr.sub : *fr.ref;
-    std::optional<detail::BarycentricMap> bary_v;  // only for vertices of U inside V
+    // V's map, built only for vertices of U inside V (in place, on first use).
+    union MapStorage {
+      MapStorage() {}
+      detail::BarycentricMap map;
+    } bary_v;
+    bool have_bary_v = false;
     unsigned label_zero[8] = {0xFu, 0xFu, 0xFu, 0xFu, 0xFu, 0xFu, 0xFu, 0xFu};  // see touched_v_ below
     for (int c = 0; c < res.num_corners; ++c) {
       const RawCorner& rc = res.corners[c];
@@ -1524,8 +1529,11 @@ struct PolyhedronBuilder {
         if (rc.kind != detail::kVertexOfY) {
           for (int p = 0; p < 4; ++p) b[p] = rc.weights[p];  // X is V: its weights are V's coordinates
         } else {
-          if (!bary_v) bary_v.emplace(V, orient3d(V[0], V[1], V[2], V[3]));
-          (*bary_v)(out.point, b);
+          if (!have_bary_v) {
+            new (&bary_v.map) detail::BarycentricMap(V, orient3d(V[0], V[1], V[2], V[3]));
+            have_bary_v = true;
+          }
+          bary_v.map(out.point, b);
         }
         const unsigned on_plane = ((1u << l0) | (1u << l1) | (1u << l2)) >> 4;  // labels 4 + p
         double sum = 0.0;

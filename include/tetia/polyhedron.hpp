@@ -86,7 +86,18 @@ class Polyhedron {
   int num_facets_ = 0;
   unsigned touched_v_ = 0;
   Moments moments_{};
-  std::array<Corner, max_corners> corners_;  // only the first num_corners_ are set
+  // Only the first num_corners_ are ever set or read, so the storage is left uninitialized on
+  // construction (a result is built in place for every pair of tetrahedra).
+  struct CornerStorage {
+    CornerStorage() {}
+    union {
+      Corner v[max_corners];
+    };
+    Corner& operator[](std::size_t i) { return v[i]; }
+    const Corner& operator[](std::size_t i) const { return v[i]; }
+    const Corner* data() const { return v; }
+  };
+  CornerStorage corners_;
   std::array<std::uint8_t, max_facets> facet_label_{};
   std::array<std::uint8_t, max_facets + 1> facet_begin_{};
   std::array<std::uint8_t, max_facet_indices> facet_index_{};
