@@ -239,6 +239,72 @@ struct KernelResult {
 
 namespace {
 
+// Four coordinates of a point, held in two SSE2 registers where available (whole-vector loads
+// and stores: a coordinate cleared in memory right before a vector load of the same point would
+// stall the load). Every operation is the scalar one, lane by lane.
+#if TETIA_KERNEL_SSE2
+struct Quad {
+  __m128d lo, hi;
+};
+// kKeepLanes[m]: all ones in the lanes not in m (m: 4-bit mask of lanes to clear).
+struct KeepLanes {
+  alignas(16) std::uint64_t v[16][4];
+};
+constexpr KeepLanes make_keep_lanes() {
+  KeepLanes k{};
+  for (unsigned m = 0; m < 16; ++m)
+    for (int p = 0; p < 4; ++p) k.v[m][p] = bit(m, p) ? 0u : ~std::uint64_t{0};
+  return k;
+}
+constexpr KeepLanes kKeepLanes = make_keep_lanes();
+inline Quad zero4() { return {_mm_setzero_pd(), _mm_setzero_pd()}; }
+inline Quad load4(const double* p) { return {_mm_loadu_pd(p), _mm_loadu_pd(p + 2)}; }
+inline void store4(double* p, const Quad& q) {
+  _mm_storeu_pd(p, q.lo);
+  _mm_storeu_pd(p + 2, q.hi);
+}
+// s + t (o - s)
+inline Quad lerp(const Quad& s, const Quad& o, double t) {
+  const __m128d tt = _mm_set1_pd(t);
+  return {_mm_add_pd(s.lo, _mm_mul_pd(tt, _mm_sub_pd(o.lo, s.lo))), _mm_add_pd(s.hi, _mm_mul_pd(tt, _mm_sub_pd(o.hi, s.hi)))};
+}
+// The lanes in m set to +0.0.
+inline Quad clear_lanes(const Quad& q, unsigned m) {
+  const std::uint64_t* k = kKeepLanes.v[m];
+  return {_mm_and_pd(q.lo, _mm_castsi128_pd(_mm_load_si128(reinterpret_cast<const __m128i*>(k)))),
+          _mm_and_pd(q.hi, _mm_castsi128_pd(_mm_load_si128(reinterpret_cast<const __m128i*>(k + 2))))};
+}
+// Bit p: lane p >= 0.
+inline unsigned nonneg_lanes(const Quad& q) {
+  const __m128d z = _mm_setzero_pd();
+  return unsigned(_mm_movemask_pd(_mm_cmpge_pd(q.lo, z))) | unsigned(_mm_movemask_pd(_mm_cmpge_pd(q.hi, z))) << 2;
+}
+#else
+struct Quad {
+  double v[4];
+};
+inline Quad zero4() { return {{0.0, 0.0, 0.0, 0.0}}; }
+inline Quad load4(const double* p) { return {{p[0], p[1], p[2], p[3]}}; }
+inline void store4(double* p, const Quad& q) {
+  for (int k = 0; k < 4; ++k) p[k] = q.v[k];
+}
+inline Quad lerp(const Quad& s, const Quad& o, double t) {
+  Quad r;
+  for (int k = 0; k < 4; ++k) r.v[k] = s.v[k] + t * (o.v[k] - s.v[k]);
+  return r;
+}
+inline Quad clear_lanes(Quad q, unsigned m) {
+  for (int k = 0; k < 4; ++k)
+    if (bit(m, k)) q.v[k] = 0.0;
+  return q;
+}
+inline unsigned nonneg_lanes(const Quad& q) {
+  unsigned r = 0;
+  for (int k = 0; k < 4; ++k) r |= unsigned(q.v[k] >= 0.0) << k;
+  return r;
+}
+#endif
+
 // The kernel state for one pair. With kWeights, each corner also gets its barycentric weights
 // on X's vertices (only a full Polyhedron with U as the reference needs them). kStats: the
 // statistics are kept (and contradictions looked for); without, every such test compiles away.
@@ -576,13 +642,9 @@ class Kernel {
   // plane of Y) are clamped to 0 and the rest renormalized; the coordinates of the planes it
   // lies on stay exactly 0. If nothing is left, the midpoint of the admissible coordinates
   // (one choice in the spirit of Table 4).
-  void guardrail(double (&b)[4], unsigned zero_mask) {
-#if TETIA_KERNEL_SSE2
-    const __m128d z = _mm_setzero_pd();
-    const int nonneg = _mm_movemask_pd(_mm_cmpge_pd(_mm_loadu_pd(b), z)) |
-                       _mm_movemask_pd(_mm_cmpge_pd(_mm_loadu_pd(b + 2), z)) << 2;
-    if (nonneg == 0xF) return;  // the usual case, as below
-#endif
+  // nonneg: bit p set if b[p] >= 0 (nonneg_lanes of the values just stored in b).
+  void guardrail(double (&b)[4], unsigned zero_mask, unsigned nonneg) {
+    if (nonneg == 0xF) return;  // the usual case: nothing to clamp, as below
     bool clamped = false;
     for (int p = 0; p < 4; ++p)
       if (!(b[p] >= 0.0)) {  // also catches NaN; the zero coordinates are exact zeros already
@@ -607,34 +669,24 @@ class Kernel {
   // p_s is exactly 0 (a vertex on the plane, as on shared faces) it is the vertex exactly.
   // Also returns the point's barycentric weights on X's vertices in w (exact zeros off the
   // edge): they give the corner's coordinates in U when U is the caller's V (see fill()).
-  void edge_point(int i, int j, int p, double (&b)[4], double (&w)[4]) const {
+  Quad edge_point(int i, int j, int p, double (&w)[4]) const {
     const int s = j ^ ((i ^ j) & -int(bit(sm_[i], p))), o = i ^ j ^ s;  // without a branch
     const double t = C_[s][p] / (C_[s][p] - C_[o][p]);
-    interpolate(C_[s], C_[o], t, b);
-    b[p] = 0.0;
+    const Quad b = clear_lanes(lerp(load4(C_[s]), load4(C_[o]), t), 1u << p);
     if constexpr (kWeights) {
       w[0] = w[1] = w[2] = w[3] = 0.0;
       w[s] = 1.0 - t;
       w[o] = t;
     }
-  }
-
-  // out = s + t (o - s), coordinate by coordinate.
-  static void interpolate(const double* s, const double* o, double t, double* out) {
-#if TETIA_KERNEL_SSE2
-    const __m128d tt = _mm_set1_pd(t), s01 = _mm_loadu_pd(s), s23 = _mm_loadu_pd(s + 2);
-    _mm_storeu_pd(out, _mm_add_pd(s01, _mm_mul_pd(tt, _mm_sub_pd(_mm_loadu_pd(o), s01))));
-    _mm_storeu_pd(out + 2, _mm_add_pd(s23, _mm_mul_pd(tt, _mm_sub_pd(_mm_loadu_pd(o + 2), s23))));
-#else
-    for (int q = 0; q < 4; ++q) out[q] = s[q] + t * (o[q] - s[q]);
-#endif
+    return b;
   }
 
   // Coordinates of the corner where edge e meets P_p.
   void edge_corner_coords(int e, int p, double (&b)[4], double (&w)[4]) {
-    edge_point(tet_edges[e][0], tet_edges[e][1], p, b, w);
+    const Quad q = edge_point(tet_edges[e][0], tet_edges[e][1], p, w);
+    store4(b, q);
     if (stats()) stats()->corner_coordinates += 3;
-    guardrail(b, 1u << p);
+    guardrail(b, 1u << p, nonneg_lanes(q));
   }
 
   // Coordinates of the corner where face f meets P_a ∩ P_b. Eq. (5) is 0/0 when the face
@@ -646,7 +698,7 @@ class Kernel {
   // per corner, so the choice cannot make two parts of the algorithm disagree; the decisions
   // were all taken on signs.
   void face_corner_coords(int f, int a, int b, double (&out)[4], double (&w)[4]) {
-    for (int q = 0; q < 4; ++q) out[q] = 0.0;  // set by the first view below
+    Quad res = zero4();  // set by the first view below
     if constexpr (kWeights)
       for (int q = 0; q < 4; ++q) w[q] = 0.0;
     double best = -1.0;
@@ -658,8 +710,8 @@ class Kernel {
       const u8* v = seg_verts(f, view);
       const int i = v[0], j = v[1], k = v[2];
       double e[2][4], we[2][4];
-      edge_point(i, j, view, e[0], we[0]);
-      edge_point(i, k, view, e[1], we[1]);
+      store4(e[0], edge_point(i, j, view, we[0]));
+      store4(e[1], edge_point(i, k, view, we[1]));
       // Interpolate from the end with cut >= 0 to the one with cut < 0, as decided by signs.
       const int second = int(!bit(seg_m1(f, view), cut));
       const double* s = e[second];
@@ -671,13 +723,14 @@ class Kernel {
       if (!(den > best)) continue;
       best = den;
       const double t = den > 0.0 ? cs / den : 0.5;
-      interpolate(s, o, t, out);
+      res = lerp(load4(s), load4(o), t);
       if constexpr (kWeights)
         for (int q = 0; q < 4; ++q) w[q] = ws[q] + t * (wo[q] - ws[q]);
     }
-    out[a] = out[b] = 0.0;
+    res = clear_lanes(res, (1u << a) | (1u << b));
+    store4(out, res);
     if (stats()) stats()->corner_coordinates += 2;
-    guardrail(out, (1u << a) | (1u << b));
+    guardrail(out, (1u << a) | (1u << b), nonneg_lanes(res));
   }
 
   const double (&C_)[4][4];  // X's barycentric coordinates, row i = vertex x_i
@@ -721,8 +774,9 @@ bool Kernel<kWeights, kStats>::run(KernelResult& out) {
   for (int i = 0; i < 4; ++i)
     if (sm_[i] == 0xF) {
       RawCorner& rc = add_corner(out, kFaceVerts[i][0], kFaceVerts[i][1], kFaceVerts[i][2], kVertexOfX, i);
-      for (int p = 0; p < 4; ++p) rc.bary[p] = C_[i][p];
-      guardrail(rc.bary, 0);
+      const Quad q = load4(C_[i]);
+      store4(rc.bary, q);
+      guardrail(rc.bary, 0, nonneg_lanes(q));
       if constexpr (kWeights) {
         for (int p = 0; p < 4; ++p) rc.weights[p] = 0.0;
         rc.weights[i] = 1.0;
