@@ -493,12 +493,16 @@ class Kernel {
   void face_line_flags() {
     for (int f = 0; f < 4; ++f) {
       const unsigned d = unsigned(seg1_[f] ^ seg2_[f]);
-      // Bits 1, 2, 3, 6, 7, 11 and 4, 8, 12, 9, 13, 14 to bits 0-5 (lines in kLines order).
-      const unsigned from_low = ((d >> 1) & 0x7u) | ((d >> 3) & 0x18u) | ((d >> 6) & 0x20u);
-      const unsigned from_high =
-          ((d >> 4) & 0x1u) | ((d >> 7) & 0x2u) | ((d >> 10) & 0x4u) | ((d >> 6) & 0x8u) | ((d >> 9) & 0x30u);
-      if (stats() && from_low != from_high) note_inconsistency();
-      fexist_[f] = static_cast<u8>(from_low & from_high);
+      // The transpose of d as a 4x4 bit matrix (bit 4b + a), by two delta swaps: bit 4a + b
+      // of (d & dt) holds both views of line (a, b).
+      unsigned dt = d, x = (dt ^ (dt >> 3)) & 0x0A0Au;
+      dt ^= x ^ (x << 3);
+      x = (dt ^ (dt >> 6)) & 0x00CCu;
+      dt ^= x ^ (x << 6);
+      // Bits 1, 2, 3, 6, 7, 11 to bits 0-5 (lines in kLines order).
+      const auto lines = [](unsigned m) { return ((m >> 1) & 0x7u) | ((m >> 3) & 0x18u) | ((m >> 6) & 0x20u); };
+      if (stats() && lines(d) != lines(dt)) note_inconsistency();
+      fexist_[f] = static_cast<u8>(lines(d & dt));
     }
   }
 
@@ -833,17 +837,25 @@ bool Kernel<kWeights, kStats>::run(KernelResult& out) {
   // line's nor t's. One line suffices; with statistics on, the other two are checked to agree
   // (end of the proof of Theorem 6).
   if constexpr (!kStats) {  // the same test on the first line, for the four vertices at once
-    unsigned inside = 0;
-    for (int t = 0; t < 4; ++t) {
-      const int L = kVertexLines[t][0][0], r = kVertexLines[t][0][1];
-      unsigned s = 0, n = 0;
-      for (int f = 0; f < 4; ++f) {
-        const unsigned e = bit(fexist_[f], L);
-        s |= (e & unsigned(bit(fsign_[f], 4 * L + r))) << n;
-        n += e;
-      }
-      inside |= (unsigned(n == 2) & unsigned(s == 1 || s == 2)) << t;
+    // The first lines through the vertices t = 0..3 are (2,3), (2,3), (1,3), (1,2) (lines 5, 5,
+    // 4, 3) with the coordinates 1, 0, 0, 0: per face, the line's existence and that sign go to
+    // nibble t of two counters; t is inside when two faces meet its line and exactly one of
+    // them has the sign 1 (the two-point test below, in counts).
+    static_assert(kVertexLines[0][0][0] == 5 && kVertexLines[0][0][1] == 1 && kVertexLines[1][0][0] == 5 &&
+                  kVertexLines[1][0][1] == 0 && kVertexLines[2][0][0] == 4 && kVertexLines[2][0][1] == 0 &&
+                  kVertexLines[3][0][0] == 3 && kVertexLines[3][0][1] == 0);
+    unsigned met = 0, positive = 0;
+    for (int f = 0; f < 4; ++f) {
+      const unsigned ex = fexist_[f], fs = fsign_[f];
+      const unsigned e = ((ex >> 5) & 1u) * 0x11u | ((ex >> 4) & 1u) << 8 | ((ex >> 3) & 1u) << 12;
+      const unsigned sg = ((fs >> 21) & 1u) | ((fs >> 20) & 1u) << 4 | ((fs >> 16) & 1u) << 8 | ((fs >> 12) & 1u) << 12;
+      met += e;
+      positive += e & sg;
     }
+    const unsigned two = met ^ 0x2222u, one = positive ^ 0x1111u;  // zero nibbles where met == 2, positive == 1
+    const unsigned nz = two | one;
+    const unsigned zero_nibbles = ~(nz | (nz >> 1) | (nz >> 2) | (nz >> 3)) & 0x1111u;
+    unsigned inside = ((zero_nibbles * 0x1248u) >> 12) & 0xFu;  // bit 4t -> bit t
     for (; inside; inside &= inside - 1) {
       const int t = std::countr_zero(inside);
       const int l0 = t == 0 ? 5 : 4, l1 = t <= 1 ? 6 : 5, l2 = t == 3 ? 6 : 7;
