@@ -166,24 +166,62 @@ class Kernel {
     }
   }
 
+  // The same signs without branching on the data (the path taken without statistics): each
+  // pair of crossed lines is compared once, by the very calculation the sort makes for it, and
+  // a line's rank along the edge is the number of lines crossed before it. When the comparisons
+  // are transitive this is the sort's order, so both paths decide the same signs; when rounding
+  // makes them cyclic (ranks collide) the sort decides, which keeps the straight line principle.
+  // Returns false in that case. (The sort skips a comparison the principle forces; this path
+  // evaluates it and finds the same answer, so it is no different in the result.)
+  bool decide_edge_by_pairs(int e) {
+    const int i = kEdgeFrom[e], j = kEdgeTo[e];
+    const unsigned si = sm_[i], sj = sm_[j];
+    const unsigned crossed = (si ^ sj) & 7u;
+    unsigned before[3] = {0, 0, 0};  // before[p] bit q: P_p is crossed before P_q
+    constexpr int kPairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+    for (const auto& pr : kPairs) {
+      const int y = pr[0], x = pr[1];
+      const unsigned both = bit(crossed, x) & bit(crossed, y);
+      const unsigned xy = unsigned(crosses_before(i, j, x, y)) & both;  // as the sort asks it
+      before[x] |= xy << y;
+      before[y] |= ((xy ^ 1u) & both) << x;
+    }
+    constexpr u8 kCount[8] = {0, 1, 1, 2, 1, 2, 2, 3};
+    unsigned ranks = 0;
+    for (int p = 0; p < 3; ++p) {
+      const unsigned earlier = crossed & ~before[p] & ~(1u << p);  // crossed before P_p
+      ranks |= bit(crossed, p) << kCount[earlier];
+      // At the crossing with P_p: lines crossed earlier have x_j's sign, the others x_i's.
+      cm_[e][p] = static_cast<u8>(((si & ~earlier) | (sj & earlier) | (1u << p)) & 7u);
+    }
+    return ranks == (1u << kCount[crossed]) - 1u;
+  }
+
   // Lines 11-13: the vertex of Y at P_p ∩ P_q lies in X iff the two crossings of X's boundary
   // with P_p have different q-signs. A line crossed by X is crossed by exactly two edges, the
   // two at the vertex whose p-sign is the odd one out; a line not crossed sees no vertex.
   int line_view(int p, int q) const {
-    const unsigned s0 = bit(sm_[0], p), s1 = bit(sm_[1], p), s2 = bit(sm_[2], p);
-    if (s0 == s1 && s1 == s2) return -1;
-    const int lone = s1 == s2 ? 0 : (s0 == s2 ? 1 : 2);
+    // The vertex alone in its p-sign, from the pattern of the three signs (-1: none, all equal).
+    constexpr std::int8_t kLone[8] = {-1, 0, 1, 2, 2, 1, 0, -1};
+    const unsigned pattern = bit(sm_[0], p) | bit(sm_[1], p) << 1 | bit(sm_[2], p) << 2;
+    const int lone = kLone[pattern];
+    const int l = lone < 0 ? 0 : lone;
     // The two edges at `lone` are those opposite the other two vertices.
-    const int e1 = (lone + 1) % 3, e2 = (lone + 2) % 3;
-    return bit(cm_[e1][p], q) != bit(cm_[e2][p], q) ? 1 : 0;
+    const int view = int(bit(cm_[kEdgeFrom[l]][p], q) != bit(cm_[kEdgeTo[l]][p], q));
+    return lone < 0 ? -1 : view;
   }
 
-  void add(KernelResult& out, u8 kind, u8 index, u8 in, u8 o) {
-    RawCorner& c = out.corners[out.num_corners++];
+  // Appends a corner if `exists`, without branching on it: the slot is written either way and
+  // the count advances only for a corner (the last slot absorbs writes past a full array, which
+  // run() then reports as a failure).
+  void add_if(KernelResult& out, bool exists, u8 kind, u8 index, u8 in, u8 o) {
+    const int n = out.num_corners;
+    RawCorner& c = out.corners[n < KernelResult::kMaxCorners ? n : KernelResult::kMaxCorners - 1];
     c.kind = kind;
     c.index = index;
     c.in = in;
     c.out = o;
+    out.num_corners = n + int(exists);
   }
 
   const double (&C_)[3][3];
@@ -198,9 +236,10 @@ bool Kernel::run(KernelResult& out) {
   out.contradiction = false;
   // Early outs: X entirely on the negative side of a line of Y (all signs 0), or nowhere
   // strictly on its positive side (it then touches the line at most: zero area).
-  for (int p = 0; p < 3; ++p) {
-    if (!(C_[0][p] > 0.0 || C_[1][p] > 0.0 || C_[2][p] > 0.0)) return true;
-  }
+  unsigned positive = 0;  // bit p: some vertex has coordinate p > 0
+  for (int i = 0; i < 3; ++i)
+    for (int p = 0; p < 3; ++p) positive |= unsigned(C_[i][p] > 0.0) << p;
+  if (positive != 7u) return true;
   // X's vertices in counter-clockwise order (in the frame of Y).
   const int nx[3] = {x_ccw_ ? 1 : 2, x_ccw_ ? 2 : 0, x_ccw_ ? 0 : 1};  // next
   const int px[3] = {nx[nx[0]], nx[nx[1]], nx[nx[2]]};                 // previous
@@ -208,34 +247,35 @@ bool Kernel::run(KernelResult& out) {
   // Lines 2-6: vertices of X inside Y. The boundary arrives on the edge from the previous
   // vertex (the edge opposite the next one) and leaves on the edge opposite the previous one.
   for (int i = 0; i < 3; ++i)
-    if (sm_[i] == 7) add(out, kVertexOfX, static_cast<u8>(i), static_cast<u8>(nx[i]), static_cast<u8>(px[i]));
+    add_if(out, sm_[i] == 7, kVertexOfX, static_cast<u8>(i), static_cast<u8>(nx[i]), static_cast<u8>(px[i]));
   if (out.num_corners < 3) {
     // Lines 7-10: edges of X against the lines of Y.
-    for (int e = 0; e < 3; ++e) decide_edge(e);
+    for (int e = 0; e < 3; ++e)
+      if (stats_ || !decide_edge_by_pairs(e)) decide_edge(e);
     for (int e = 0; e < 3; ++e) {
       const unsigned crossed = (sm_[kEdgeFrom[e]] ^ sm_[kEdgeTo[e]]) & 7u;
       // The edge's counter-clockwise start: leaving the half-plane {p >= 0} there means the
       // boundary comes along the edge and goes on along P_p; entering, the reverse.
       const int start = x_ccw_ ? kEdgeFrom[e] : kEdgeTo[e];
       for (int p = 0; p < 3; ++p) {
-        if (!bit(crossed, p) || cm_[e][p] != 7) continue;
         const bool leaving = bit(sm_[start], p);
-        add(out, kEdgeOfX, static_cast<u8>(e * 3 + p), static_cast<u8>(leaving ? e : 3 + p),
-            static_cast<u8>(leaving ? 3 + p : e));
+        add_if(out, bit(crossed, p) && cm_[e][p] == 7, kEdgeOfX, static_cast<u8>(e * 3 + p),
+               static_cast<u8>(leaving ? e : 3 + p), static_cast<u8>(leaving ? 3 + p : e));
       }
     }
     // Lines 11-13: vertex r of Y, at P_p ∩ P_q. Decided from P_p (or from P_q when X does not
     // cross P_p); the two views agree by the pairing of line 10 (checked with statistics).
     for (int r = 0; r < 3; ++r) {
       const int p = (r + 1) % 3, q = (r + 2) % 3;
-      int inside = line_view(p, q);
-      const int other = line_view(q, p);
-      if (inside < 0) inside = other;
-      if (stats_ && inside >= 0 && other >= 0 && inside != other) out.contradiction = true;
+      const int first = line_view(p, q), other = line_view(q, p);
+      const int inside = first < 0 ? other : first;
+      if (stats_ && first >= 0 && other >= 0 && first != other) out.contradiction = true;
       // Y is counter-clockwise: the boundary arrives on the line opposite the next vertex.
-      if (inside == 1) add(out, kVertexOfY, static_cast<u8>(r), static_cast<u8>(3 + (r + 1) % 3), static_cast<u8>(3 + (r + 2) % 3));
+      add_if(out, inside == 1, kVertexOfY, static_cast<u8>(r), static_cast<u8>(3 + (r + 1) % 3),
+             static_cast<u8>(3 + (r + 2) % 3));
     }
   }
+  if (out.num_corners > KernelResult::kMaxCorners) return false;  // impossible (checked)
   // The counter-clockwise order from the labels: the next corner is the one the boundary
   // arrives at on the line this one leaves by. Each line carries at most one side.
   const int n = out.num_corners;
@@ -422,23 +462,17 @@ void corner_coordinates(const Frame& fr, KernelResult& r, TriIntersectionStats* 
       // evaluated, not one and its complement, so that a crossing at a vertex of Y gets an
       // exact zero (a collinear edge; touched_edges_of_b relies on it).
       const int e = k.index / 3, p = k.index % 3, i = kEdgeFrom[e], j = kEdgeTo[e];
+      const int q1 = kEdgeFrom[p], q2 = kEdgeTo[p];  // the two other coordinates
       const double den = C[i][p] - C[j][p];
-      double sum = 0.0;
-      for (int q = 0; q < 3; ++q) {
-        if (q == p) {
-          k.bary[q] = 0.0;
-          continue;
-        }
-        double v = (C[i][p] * C[j][q] - C[j][p] * C[i][q]) / den;
-        if (!(v >= 0.0)) {
-          if (stats) ++stats->guardrail_clamps;
-          v = 0.0;
-        }
-        k.bary[q] = v;
-        sum += v;
-      }
-      if (sum > 0.0)
-        for (int q = 0; q < 3; ++q) k.bary[q] /= sum;
+      double v1 = (C[i][p] * C[j][q1] - C[j][p] * C[i][q1]) / den;
+      double v2 = (C[i][p] * C[j][q2] - C[j][p] * C[i][q2]) / den;
+      if (stats) stats->guardrail_clamps += int(!(v1 >= 0.0)) + int(!(v2 >= 0.0));
+      v1 = v1 >= 0.0 ? v1 : 0.0;
+      v2 = v2 >= 0.0 ? v2 : 0.0;
+      const double sum = v1 + v2;
+      k.bary[p] = 0.0;
+      k.bary[q1] = sum > 0.0 ? v1 / sum : v1;
+      k.bary[q2] = sum > 0.0 ? v2 / sum : v2;
       k.weight_b = C[i][p] / den;  // in [0, 1]: C[i][p] and -C[j][p] have the same sign
       if (stats) stats->corner_coordinates += 2;
     }
@@ -506,14 +540,16 @@ void corner_coordinates(const Frame& fr, KernelResult& r, TriIntersectionStats* 
 // Picks the reference (the better-conditioned triangle; ties broken by the coordinates, so that
 // (A, B) and (B, A) choose the same one) and computes X. False for flat or non-finite input.
 void canonical_order(const Triangle& t, Triangle& out, u8 (&perm)[3]) {
-  const auto less = [&t](int i, int j) { return t[i].x < t[j].x || (t[i].x == t[j].x && t[i].y < t[j].y); };
-  int o[3] = {0, 1, 2};
-  if (less(o[1], o[0])) std::swap(o[0], o[1]);
-  if (less(o[2], o[1])) std::swap(o[1], o[2]);
-  if (less(o[1], o[0])) std::swap(o[0], o[1]);
+  // Rank of each vertex = how many come before it (x, then y, then index for equal points),
+  // without branches: the sort of three is on the path of every call.
+  const auto before = [&t](int i, int j) {
+    return int((t[i].x < t[j].x) | ((t[i].x == t[j].x) & ((t[i].y < t[j].y) | ((t[i].y == t[j].y) & (i < j)))));
+  };
+  const int b01 = before(0, 1), b02 = before(0, 2), b12 = before(1, 2);
+  const int rank[3] = {(1 - b01) + (1 - b02), b01 + (1 - b12), b02 + b12};
   for (int k = 0; k < 3; ++k) {
-    out[static_cast<std::size_t>(k)] = t[static_cast<std::size_t>(o[k])];
-    perm[k] = static_cast<u8>(o[k]);
+    out[static_cast<std::size_t>(rank[k])] = t[static_cast<std::size_t>(k)];
+    perm[rank[k]] = static_cast<u8>(k);
   }
 }
 
