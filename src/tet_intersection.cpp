@@ -1382,9 +1382,15 @@ struct BarycentricMap {
                      _mm_mul_pd(_mm_andnot_pd(sign, wz), _mm_load_pd(pz + h)));
       const __m128d keep = _mm_cmpgt_pd(_mm_andnot_pd(sign, det), _mm_mul_pd(bound, perm));
       _mm_storeu_pd(out + h, _mm_and_pd(keep, _mm_mul_pd(det, _mm_load_pd(scale + h))));
-      const __m128d eq = _mm_and_pd(_mm_and_pd(_mm_cmpeq_pd(ux, _mm_load_pd(vx + h)), _mm_cmpeq_pd(uy, _mm_load_pd(vy + h))),
-                                    _mm_cmpeq_pd(uz, _mm_load_pd(vz + h)));
-      same |= unsigned(_mm_movemask_pd(eq)) << h;
+      same |= unsigned(_mm_movemask_pd(_mm_cmpeq_pd(ux, _mm_load_pd(vx + h)))) << h;  // x only, first
+    }
+    if (same) {  // some vertex has u's x: compare the whole points
+      same = 0;
+      for (int h = 0; h < 4; h += 2) {
+        const __m128d eq = _mm_and_pd(_mm_and_pd(_mm_cmpeq_pd(ux, _mm_load_pd(vx + h)), _mm_cmpeq_pd(uy, _mm_load_pd(vy + h))),
+                                      _mm_cmpeq_pd(uz, _mm_load_pd(vz + h)));
+        same |= unsigned(_mm_movemask_pd(eq)) << h;
+      }
     }
 #else
     for (int k = 0; k < 4; ++k) {
