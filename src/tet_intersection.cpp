@@ -1565,7 +1565,8 @@ struct PolyhedronBuilder {
     P.num_corners_ = res.num_corners;
     const bool swapped = fr.swapped;
     const unsigned relabel = unsigned(swapped) << 2;  // (label + 4) % 8 when U was the reference
-    const Tet& V = swapped ? *fr.sub : *fr.ref;
+    const Tet* const sub_ref[2] = {fr.ref, fr.sub};
+    const Tet& V = *sub_ref[swapped];  // the caller's V, chosen without a branch
     // V's map, built only for vertices of U inside V (in place, on first use).
     union MapStorage {
       MapStorage() {}

@@ -98,9 +98,10 @@ class Polyhedron {
     const Corner* data() const { return v; }
   };
   CornerStorage corners_;
-  std::array<std::uint8_t, max_facets> facet_label_{};
+  // Like the corners, only the first num_facets_ labels and the indices they delimit are set.
+  std::array<std::uint8_t, max_facets> facet_label_;
   std::array<std::uint8_t, max_facets + 1> facet_begin_{};
-  std::array<std::uint8_t, max_facet_indices> facet_index_{};
+  std::array<std::uint8_t, max_facet_indices> facet_index_;
 };
 
 }  // namespace tetia
