@@ -1469,11 +1469,19 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
     k.run(res);
     res.contradiction = !k.consistent();
   }
-  if constexpr (kFull) {
+  if constexpr (kFull) {  // the largest of 1 and the |coordinates| (finite here: make_frame)
+#if TETIA_KERNEL_SSE2
+    const __m128d sign = _mm_set1_pd(-0.0);
+    __m128d m = _mm_set1_pd(1.0);
+    for (int i = 0; i < 4; ++i)
+      m = _mm_max_pd(m, _mm_max_pd(_mm_andnot_pd(sign, _mm_loadu_pd(C[i])), _mm_andnot_pd(sign, _mm_loadu_pd(C[i] + 2))));
+    res.coordinate_scale = _mm_cvtsd_f64(_mm_max_sd(m, _mm_unpackhi_pd(m, m)));
+#else
     double scale = 1.0;
     for (int i = 0; i < 4; ++i)
       for (int p = 0; p < 4; ++p) scale = std::max(scale, std::abs(C[i][p]));
     res.coordinate_scale = scale;
+#endif
   }
   const bool ok = build_facets<kMoments ? kFacetsMoments : kFacetsVolume>(res);
   if (!ok) {
