@@ -279,6 +279,20 @@ inline unsigned nonneg_lanes(const Quad& q) {
   const __m128d z = _mm_setzero_pd();
   return unsigned(_mm_movemask_pd(_mm_cmpge_pd(q.lo, z))) | unsigned(_mm_movemask_pd(_mm_cmpge_pd(q.hi, z))) << 2;
 }
+// Bit p: lane p == 0.
+inline unsigned zero_lanes(const Quad& q) {
+  const __m128d z = _mm_setzero_pd();
+  return unsigned(_mm_movemask_pd(_mm_cmpeq_pd(q.lo, z))) | unsigned(_mm_movemask_pd(_mm_cmpeq_pd(q.hi, z))) << 2;
+}
+inline Quad mul4(const Quad& q, double x) {
+  const __m128d xx = _mm_set1_pd(x);
+  return {_mm_mul_pd(q.lo, xx), _mm_mul_pd(q.hi, xx)};
+}
+inline Quad div4(const Quad& q, double x) {
+  const __m128d xx = _mm_set1_pd(x);
+  return {_mm_div_pd(q.lo, xx), _mm_div_pd(q.hi, xx)};
+}
+inline Quad set4(double x) { return {_mm_set1_pd(x), _mm_set1_pd(x)}; }
 #else
 struct Quad {
   double v[4];
@@ -303,6 +317,20 @@ inline unsigned nonneg_lanes(const Quad& q) {
   for (int k = 0; k < 4; ++k) r |= unsigned(q.v[k] >= 0.0) << k;
   return r;
 }
+inline unsigned zero_lanes(const Quad& q) {
+  unsigned r = 0;
+  for (int k = 0; k < 4; ++k) r |= unsigned(q.v[k] == 0.0) << k;
+  return r;
+}
+inline Quad mul4(Quad q, double x) {
+  for (double& v : q.v) v *= x;
+  return q;
+}
+inline Quad div4(Quad q, double x) {
+  for (double& v : q.v) v /= x;
+  return q;
+}
+inline Quad set4(double x) { return {{x, x, x, x}}; }
 #endif
 
 // The kernel state for one pair. With kWeights, each corner also gets its barycentric weights
@@ -1597,11 +1625,12 @@ struct PolyhedronBuilder {
       const unsigned l0 = min(min(k0, k1), k2), l2 = max(max(k0, k1), k2);
       const unsigned l1 = k0 ^ k1 ^ k2 ^ l0 ^ l2;  // the remaining one
       out.labels = {static_cast<std::uint8_t>(l0), static_cast<std::uint8_t>(l1), static_cast<std::uint8_t>(l2)};
+      detail::Quad bary;  // V's barycentric coordinates of the corner
       if (!swapped) {
         // The kernel's coordinates sum to 1 up to the conditioning of the map; the reported
         // ones are scaled to sum to 1 (zeros stay exact zeros): they are P1 basis values.
         const double inv = 1.0 / (rc.bary[0] + rc.bary[1] + rc.bary[2] + rc.bary[3]);
-        for (int p = 0; p < 4; ++p) out.bary[static_cast<std::size_t>(p)] = rc.bary[p] * inv;
+        bary = detail::mul4(detail::load4(rc.bary), inv);
       } else {
         // The reference was U: V's coordinates come from the point itself, with the coordinates
         // of V's planes the corner lies on set to exactly zero, then clamped into the simplex
@@ -1633,12 +1662,11 @@ struct PolyhedronBuilder {
           sum += b[p];
         }
 #endif
-        for (int p = 0; p < 4; ++p) out.bary[static_cast<std::size_t>(p)] = sum > 0.0 ? b[p] / sum : 0.25;
+        bary = sum > 0.0 ? detail::div4(detail::load4(b), sum) : detail::set4(0.25);
       }
       // Which of V's barycentric coordinates are exactly zero, for every plane of the corner.
-      const auto& b = out.bary;
-      const unsigned zero = unsigned(b[0] == 0.0) | unsigned(b[1] == 0.0) << 1 | unsigned(b[2] == 0.0) << 2 |
-                            unsigned(b[3] == 0.0) << 3;
+      detail::store4(out.bary.data(), bary);
+      const unsigned zero = detail::zero_lanes(bary);
       for (int k = 0; k < 3; ++k) label_zero[rc.labels[k]] &= zero;
     }
     P.num_facets_ = res.num_facets;
