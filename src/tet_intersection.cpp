@@ -1072,8 +1072,19 @@ bool build_facets(KernelResult& r) {
   r.facet_begin[0] = 0;
   double vol6 = 0.0, m[3] = {0.0, 0.0, 0.0};
   int used = 0;
-  unsigned planes = 0;
+  unsigned planes = 0;  // bit a: some corner lies on plane a
+#if TETIA_KERNEL_SSE2
+  {
+    const __m128i z = _mm_setzero_si128();
+    const __m128i lo = _mm_loadu_si128(reinterpret_cast<const __m128i*>(r.on_plane));
+    const __m128i hi = _mm_loadu_si128(reinterpret_cast<const __m128i*>(r.on_plane + 4));
+    planes = ~(unsigned(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(lo, z)))) |
+               unsigned(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(hi, z)))) << 4) &
+             0xFFu;
+  }
+#else
   for (int a = 0; a < 8; ++a) planes |= unsigned(r.on_plane[a] != 0) << a;
+#endif
   for (; planes; planes &= planes - 1) {
     const int a = std::countr_zero(planes);
     const std::uint32_t here = r.on_plane[a];
