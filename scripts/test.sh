@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # All tests: installs the dependencies, then builds and runs the whole suite twice,
 #  1. build/       Release, warnings as errors;
-#  2. build-asan/  RelWithDebInfo with AddressSanitizer + UndefinedBehaviorSanitizer.
+#  2. build-asan/  RelWithDebInfo with AddressSanitizer + UndefinedBehaviorSanitizer;
+# then 3. build-scalar/: the 3D kernel's tests once more with its portable scalar code (the
+# kernel uses SSE2 where the compiler has it, as on every x86-64; -U__SSE2__ takes the other
+# branch, so both are tested).
 # Stops at the first failure. TETIA_JOBS sets the parallelism (default 2).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -29,5 +32,14 @@ step "tests (build-asan)"
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 ctest --test-dir build-asan --output-on-failure -j"$jobs"
+
+step "build-scalar (Release, kernel without SSE2: -U__SSE2__)"
+cmake -S . -B build-scalar -DCMAKE_BUILD_TYPE=Release -DTETIA_WERROR=ON -DTETIA_BUILD_BENCH=OFF \
+  -DCMAKE_CXX_FLAGS=-U__SSE2__
+kernel_tests=(test_tet_intersection test_kernel_vs_exact test_kernel_properties)
+cmake --build build-scalar -j"$jobs" --target "${kernel_tests[@]}"
+
+step "kernel tests (build-scalar)"
+for t in "${kernel_tests[@]}"; do ./build-scalar/tests/"$t" --gtest_brief=1; done
 
 step "all tests passed"
