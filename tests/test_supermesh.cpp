@@ -21,6 +21,7 @@
 #include "tetia/mesh.hpp"
 #include "tetia/supermesh.hpp"
 #include "tetia/tet_intersection.hpp"
+#include "support/supermesh_checks.hpp"
 
 namespace {
 
@@ -69,129 +70,16 @@ TetMesh kuhn_subset(std::array<int, 3> n, const std::function<bool(int, int, int
   return m;
 }
 
-struct Box {
-  Vec3 lo, hi;
-};
-Box box_of(const Tet& t) {
-  Box b{t[0], t[0]};
-  for (const Vec3& p : t)
-    for (int k = 0; k < 3; ++k) {
-      b.lo[k] = std::min(b.lo[k], p[k]);
-      b.hi[k] = std::max(b.hi[k], p[k]);
-    }
-  return b;
-}
-bool boxes_overlap(const Box& a, const Box& b) {
-  for (int k = 0; k < 3; ++k)
-    if (!(a.lo[k] < b.hi[k] && b.lo[k] < a.hi[k])) return false;
-  return true;
-}
 
-// The kernel resolves intersections above 1e-14 times the larger cell volume (as in
-// test_kernel_vs_exact.cpp); below it, it may report a tiny positive volume where the exact one
-// is zero, or zero where it is tiny, and the supermesh drops pieces of at most 1e-14 times the
-// smaller cell volume. Pairs above twice the resolution must be found; pairs with exact volume
-// zero must not be (above the resolution).
-constexpr double kResolution = 1e-14;
-
-struct BruteForce {
-  std::vector<std::pair<std::int32_t, std::int32_t>> positive;  // (target, source), exact > 0, sorted
-  std::vector<std::pair<std::int32_t, std::int32_t>> required;  // exact above the resolution
-  mpq_class total = 0;
-  std::size_t exact_calls = 0;
-};
-
-/// Every pair with positive exact volume (boxes that do not overlap in their interiors cannot
-/// hold one).
-BruteForce brute_force(const TetMesh& src, const TetMesh& tgt) {
-  BruteForce bf;
-  std::vector<Box> tb(tgt.num_cells());
-  for (std::size_t t = 0; t < tgt.num_cells(); ++t) tb[t] = box_of(tgt.cell(t));
-  for (std::size_t t = 0; t < tgt.num_cells(); ++t) {
-    const Tet T = tgt.cell(t);
-    for (std::size_t s = 0; s < src.num_cells(); ++s) {
-      const Tet S = src.cell(s);
-      if (!boxes_overlap(box_of(S), tb[t])) continue;
-      ++bf.exact_calls;
-      const mpq_class v = tetia::exact::intersection_volume(S, T);
-      if (sgn(v) <= 0) continue;
-      const std::pair<std::int32_t, std::int32_t> key{static_cast<std::int32_t>(t), static_cast<std::int32_t>(s)};
-      bf.positive.push_back(key);
-      if (v.get_d() > 2 * kResolution * std::max(src.volumes[s], tgt.volumes[t])) bf.required.push_back(key);
-      bf.total += v;
-    }
-  }
-  return bf;
-}
-
-std::vector<std::pair<std::int32_t, std::int32_t>> pairs_of(const Supermesh& sm) {
-  std::vector<std::pair<std::int32_t, std::int32_t>> p;
-  for (const auto& pc : sm.pieces) p.emplace_back(pc.target, pc.source);
-  return p;
-}
-
-bool bitwise_equal(const std::vector<SupermeshPiece>& a, const std::vector<SupermeshPiece>& b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    if (a[i].source != b[i].source || a[i].target != b[i].target) return false;
-    if (std::memcmp(&a[i].volume, &b[i].volume, sizeof(double)) != 0) return false;
-    if (std::memcmp(&a[i].first, &b[i].first, sizeof(Vec3)) != 0) return false;
-  }
-  return true;
-}
-
-using PairList = std::vector<std::pair<std::int32_t, std::int32_t>>;
-
-std::string describe(const PairList& list, const char* what) {
-  std::string s = std::to_string(list.size()) + " " + what;
-  for (std::size_t i = 0; i < std::min<std::size_t>(list.size(), 5); ++i)
-    s += " (" + std::to_string(list[i].first) + ", " + std::to_string(list[i].second) + ")";
-  return s;
-}
+using tetia::testsupport::bitwise_equal;
+using tetia::testsupport::check_against_brute_force;
+using tetia::testsupport::describe;
+using tetia::testsupport::kResolution;
+using tetia::testsupport::PairList;
+using tetia::testsupport::pairs_of;
 
 Supermesh run(const TetMesh& src, const TetMesh& tgt, CandidateSearch search, int threads, bool keep = false) {
-  SupermeshOptions o;
-  o.search = search;
-  o.threads = threads;
-  o.keep_polyhedra = keep;
-  return tetia::supermesh(src, tgt, o);
-}
-
-/// The supermesh, both searches, one and two threads, against brute force with exact volumes.
-/// Returns the front's result.
-Supermesh check_against_brute_force(const TetMesh& src, const TetMesh& tgt, const std::string& name) {
-  SCOPED_TRACE(name);
-  const BruteForce bf = brute_force(src, tgt);
-  const Supermesh front1 = run(src, tgt, CandidateSearch::front, 1);
-  const Supermesh front2 = run(src, tgt, CandidateSearch::front, 2);
-  const Supermesh rtree2 = run(src, tgt, CandidateSearch::rtree, 2);
-  const PairList got = pairs_of(front1);
-  EXPECT_TRUE(std::is_sorted(got.begin(), got.end()));
-  // Every pair above the resolution is found; every pair found is positive or sub-resolution.
-  PairList missing, extra;
-  std::set_difference(bf.required.begin(), bf.required.end(), got.begin(), got.end(), std::back_inserter(missing));
-  for (const auto& pc : front1.pieces) {
-    const std::pair<std::int32_t, std::int32_t> key{pc.target, pc.source};
-    if (std::binary_search(bf.positive.begin(), bf.positive.end(), key)) continue;
-    const double res = kResolution * std::max(src.volumes[static_cast<std::size_t>(pc.source)],
-                                              tgt.volumes[static_cast<std::size_t>(pc.target)]);
-    if (pc.volume > res) extra.push_back(key);
-  }
-  EXPECT_TRUE(missing.empty()) << describe(missing, "missing (target, source)");
-  EXPECT_TRUE(extra.empty()) << describe(extra, "found with exact volume 0 (target, source)");
-  EXPECT_TRUE(bitwise_equal(front1.pieces, front2.pieces)) << "1 thread vs 2 threads";
-  EXPECT_TRUE(bitwise_equal(front1.pieces, rtree2.pieces)) << "front vs rtree";
-  EXPECT_EQ(front1.candidates, front2.candidates);
-  const double exact_total = bf.total.get_d();
-  EXPECT_NEAR(front1.intersection_volume(), exact_total, 1e-13 * std::max(1.0, exact_total));
-  for (const auto& pc : front1.pieces)
-    EXPECT_GT(pc.volume, kResolution * std::min(src.volumes[static_cast<std::size_t>(pc.source)],
-                                                tgt.volumes[static_cast<std::size_t>(pc.target)]));
-  std::printf("  %-38s %4zu x %4zu cells: %5zu pairs (%5zu exact > 0, %5zu above resolution), candidates: "
-              "front %5zu, rtree %5zu\n",
-              name.c_str(), src.num_cells(), tgt.num_cells(), front1.pieces.size(), bf.positive.size(),
-              bf.required.size(), front1.candidates, rtree2.candidates);
-  return front1;
+  return tetia::testsupport::run(src, tgt, search, threads, keep);
 }
 
 /// Per target cell, the sum of its pieces' volumes (pieces are sorted by target).

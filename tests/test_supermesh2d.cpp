@@ -23,6 +23,7 @@
 #include "tetia/mesh.hpp"
 #include "tetia/supermesh.hpp"
 #include "tetia/tri_intersection.hpp"
+#include "support/supermesh_checks.hpp"
 
 namespace {
 
@@ -77,121 +78,16 @@ TriMesh joined(TriMesh a, const TriMesh& b) {
   return a;
 }
 
-struct Box {
-  Vec2 lo, hi;
-};
-Box box_of(const Triangle& t) {
-  Box b{t[0], t[0]};
-  for (const Vec2& p : t) {
-    b.lo = {std::min(b.lo.x, p.x), std::min(b.lo.y, p.y)};
-    b.hi = {std::max(b.hi.x, p.x), std::max(b.hi.y, p.y)};
-  }
-  return b;
-}
-bool boxes_overlap(const Box& a, const Box& b) {
-  return a.lo.x < b.hi.x && b.lo.x < a.hi.x && a.lo.y < b.hi.y && b.lo.y < a.hi.y;
-}
 
-// As in 3D: the supermesh drops pieces of at most 1e-14 times the smaller cell's area; pairs
-// above twice that (relative to the larger cell) must be found, pairs of exact area zero must
-// not be (above the resolution).
-constexpr double kResolution = 1e-14;
-
-using PairList = std::vector<std::pair<std::int32_t, std::int32_t>>;  // (target, source)
-
-struct BruteForce {
-  PairList positive;  // exact area > 0, sorted
-  PairList required;  // exact area above the resolution
-  mpq_class total = 0;
-};
-
-/// Every pair with positive exact area (boxes that do not overlap in their interiors cannot hold
-/// one).
-BruteForce brute_force(const TriMesh& src, const TriMesh& tgt) {
-  BruteForce bf;
-  std::vector<Box> sb(src.num_cells());
-  for (std::size_t s = 0; s < src.num_cells(); ++s) sb[s] = box_of(src.cell(s));
-  for (std::size_t t = 0; t < tgt.num_cells(); ++t) {
-    const Triangle T = tgt.cell(t);
-    const Box tb = box_of(T);
-    for (std::size_t s = 0; s < src.num_cells(); ++s) {
-      if (!boxes_overlap(sb[s], tb)) continue;
-      const mpq_class a = tetia::exact::intersection_area(src.cell(s), T);
-      if (sgn(a) <= 0) continue;
-      const std::pair<std::int32_t, std::int32_t> key{static_cast<std::int32_t>(t), static_cast<std::int32_t>(s)};
-      bf.positive.push_back(key);
-      if (a.get_d() > 2 * kResolution * std::max(src.areas[s], tgt.areas[t])) bf.required.push_back(key);
-      bf.total += a;
-    }
-  }
-  return bf;
-}
-
-PairList pairs_of(const Supermesh2& sm) {
-  PairList p;
-  for (const auto& pc : sm.pieces) p.emplace_back(pc.target, pc.source);
-  return p;
-}
-
-bool bitwise_equal(const std::vector<SupermeshPiece2>& a, const std::vector<SupermeshPiece2>& b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    if (a[i].source != b[i].source || a[i].target != b[i].target) return false;
-    if (std::memcmp(&a[i].area, &b[i].area, sizeof(double)) != 0) return false;
-    if (std::memcmp(&a[i].first, &b[i].first, sizeof(Vec2)) != 0) return false;
-  }
-  return true;
-}
-
-std::string describe(const PairList& list, const char* what) {
-  std::string s = std::to_string(list.size()) + " " + what;
-  for (std::size_t i = 0; i < std::min<std::size_t>(list.size(), 5); ++i)
-    s += " (" + std::to_string(list[i].first) + ", " + std::to_string(list[i].second) + ")";
-  return s;
-}
+using tetia::testsupport::bitwise_equal;
+using tetia::testsupport::check_against_brute_force;
+using tetia::testsupport::describe;
+using tetia::testsupport::kResolution;
+using tetia::testsupport::PairList;
+using tetia::testsupport::pairs_of;
 
 Supermesh2 run(const TriMesh& src, const TriMesh& tgt, CandidateSearch search, int threads, bool keep = false) {
-  SupermeshOptions o;
-  o.search = search;
-  o.threads = threads;
-  o.keep_polyhedra = keep;
-  return tetia::supermesh(src, tgt, o);
-}
-
-/// The supermesh, both searches, one and two threads, against brute force with exact areas.
-/// Returns the front's result.
-Supermesh2 check_against_brute_force(const TriMesh& src, const TriMesh& tgt, const std::string& name) {
-  SCOPED_TRACE(name);
-  const BruteForce bf = brute_force(src, tgt);
-  const Supermesh2 front1 = run(src, tgt, CandidateSearch::front, 1);
-  const Supermesh2 front2 = run(src, tgt, CandidateSearch::front, 2);
-  const Supermesh2 rtree2 = run(src, tgt, CandidateSearch::rtree, 2);
-  const PairList got = pairs_of(front1);
-  EXPECT_TRUE(std::is_sorted(got.begin(), got.end()));
-  PairList missing, extra;
-  std::set_difference(bf.required.begin(), bf.required.end(), got.begin(), got.end(), std::back_inserter(missing));
-  for (const auto& pc : front1.pieces) {
-    const std::pair<std::int32_t, std::int32_t> key{pc.target, pc.source};
-    if (std::binary_search(bf.positive.begin(), bf.positive.end(), key)) continue;
-    const double res = kResolution * std::max(src.areas[static_cast<std::size_t>(pc.source)],
-                                              tgt.areas[static_cast<std::size_t>(pc.target)]);
-    if (pc.area > res) extra.push_back(key);
-  }
-  EXPECT_TRUE(missing.empty()) << describe(missing, "missing (target, source)");
-  EXPECT_TRUE(extra.empty()) << describe(extra, "found with exact area 0 (target, source)");
-  EXPECT_TRUE(bitwise_equal(front1.pieces, front2.pieces)) << "1 thread vs 2 threads";
-  EXPECT_TRUE(bitwise_equal(front1.pieces, rtree2.pieces)) << "front vs rtree";
-  EXPECT_EQ(front1.candidates, front2.candidates);
-  const double exact_total = bf.total.get_d();
-  EXPECT_NEAR(front1.intersection_area(), exact_total, 1e-13 * std::max(1.0, exact_total));
-  for (const auto& pc : front1.pieces)
-    EXPECT_GT(pc.area, kResolution * std::min(src.areas[static_cast<std::size_t>(pc.source)],
-                                              tgt.areas[static_cast<std::size_t>(pc.target)]));
-  std::printf("  %-40s %4zu x %4zu cells: %5zu pairs (%5zu exact > 0, %5zu above resolution), candidates: "
-              "front %5zu, rtree %5zu\n",
-              name.c_str(), src.num_cells(), tgt.num_cells(), front1.pieces.size(), bf.positive.size(),
-              bf.required.size(), front1.candidates, rtree2.candidates);
-  return front1;
+  return tetia::testsupport::run(src, tgt, search, threads, keep);
 }
 
 /// Per cell of the target (source), the sum of its pieces' areas.
