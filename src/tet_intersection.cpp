@@ -25,6 +25,7 @@
 #include <new>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #include "tetia/kernel_trace.hpp"
 
@@ -1683,7 +1684,6 @@ struct PolyhedronBuilder {
     P.num_facets_ = res.num_facets;
     P.touched_v_ = 0;
     for (int f = 0; f <= res.num_facets; ++f) P.facet_begin_[static_cast<std::size_t>(f)] = res.facet_begin[f];
-    int offset[8], step[8];  // position k of facet f reads the stored index offset + step * k
     for (int f = 0; f < res.num_facets; ++f) {
       const unsigned kernel_label = res.facet_label[f], label = kernel_label ^ relabel;
       P.facet_label_[static_cast<std::size_t>(f)] = static_cast<std::uint8_t>(label);
@@ -1693,14 +1693,22 @@ struct PolyhedronBuilder {
       P.touched_v_ |= (of_v & (1u << (label & 3u))) | (~of_v & label_zero[kernel_label]);
       // Stored in walking order; reversed where orient_facet_dirs says so, and once more for a
       // negatively oriented reference.
-      const int flip = int((dir[f] < 0) != flip_all);
-      offset[f] = flip * (res.facet_begin[f] + res.facet_begin[f + 1] - 1);
-      step[f] = 1 - 2 * flip;
-    }
-    // One pass over all the facets' positions (each facet has at least three).
-    for (int k = 0, f = 0, total = res.facet_begin[res.num_facets]; k < total; ++k) {
-      f += int(k == res.facet_begin[f + 1]);
-      P.facet_index_[static_cast<std::size_t>(k)] = res.facet_index[offset[f] + step[f] * k];
+      const bool flip = (dir[f] < 0) != flip_all;
+      const int b = res.facet_begin[f], e = res.facet_begin[f + 1];
+      const unsigned len = unsigned(e - b);
+      if (std::endian::native == std::endian::little && len <= 8 && b + 8 <= Polyhedron::max_facet_indices) {
+        // The usual case (a facet has at most seven corners): the facet's indices as one
+        // 64-bit word, reversed by a byte swap. The bytes past the facet are overwritten by the
+        // next facet, or lie past the last one.
+        std::uint64_t x;
+        std::memcpy(&x, res.facet_index + b, 8);
+        const std::uint64_t reversed = __builtin_bswap64(x) >> ((8 * (8 - len)) & 63u);
+        x = flip ? reversed : x;
+        std::memcpy(P.facet_index_.data() + b, &x, 8);
+      } else {
+        for (int k = b; k < e; ++k)
+          P.facet_index_[static_cast<std::size_t>(k)] = res.facet_index[flip ? b + e - 1 - k : k];
+      }
     }
     P.moments_ = detail::original_moments(fr, res);
     return true;
