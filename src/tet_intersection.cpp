@@ -1683,7 +1683,18 @@ struct PolyhedronBuilder {
     }
     P.num_facets_ = res.num_facets;
     P.touched_v_ = 0;
-    for (int f = 0; f <= res.num_facets; ++f) P.facet_begin_[static_cast<std::size_t>(f)] = res.facet_begin[f];
+    if constexpr (std::endian::native == std::endian::little) {
+      // facet_begin[0..num_facets] as one 64-bit word and a byte; the entries after stay 0
+      static_assert(Polyhedron::max_facets == 8);
+      const unsigned nf = unsigned(res.num_facets);  // at most 8
+      std::uint64_t w;
+      std::memcpy(&w, res.facet_begin, 8);
+      w &= ~std::uint64_t(0) >> ((8 * (7 - nf)) & 63u) | (0u - std::uint64_t(nf >= 7));
+      std::memcpy(P.facet_begin_.data(), &w, 8);
+      P.facet_begin_[8] = static_cast<std::uint8_t>(res.facet_begin[8] & (0u - unsigned(nf == 8)));
+    } else {
+      for (int f = 0; f <= res.num_facets; ++f) P.facet_begin_[static_cast<std::size_t>(f)] = res.facet_begin[f];
+    }
     for (int f = 0; f < res.num_facets; ++f) {
       const unsigned kernel_label = res.facet_label[f], label = kernel_label ^ relabel;
       P.facet_label_[static_cast<std::size_t>(f)] = static_cast<std::uint8_t>(label);
@@ -1703,7 +1714,8 @@ struct PolyhedronBuilder {
         std::uint64_t x;
         std::memcpy(&x, res.facet_index + b, 8);
         const std::uint64_t reversed = __builtin_bswap64(x) >> ((8 * (8 - len)) & 63u);
-        x = flip ? reversed : x;
+        const std::uint64_t keep = std::uint64_t(flip) - 1u;  // all ones unless flipped
+        x = (x & keep) | (reversed & ~keep);
         std::memcpy(P.facet_index_.data() + b, &x, 8);
       } else {
         for (int k = b; k < e; ++k)
