@@ -1500,6 +1500,33 @@ bool make_frame(const Tet& U, const Tet& V, Frame& fr, bool other_reference = fa
 // kFull: the result becomes a Polyhedron (weights, and the coordinate scale orient_facets uses).
 template <bool kMoments, bool kFull>
 bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* stats) {
+  // Kernel::run's first test (lines 2-6) ahead of the kernel: some plane of Y has no vertex of
+  // X strictly on its positive side (which covers X on its negative side: C >= 0 implies
+  // C > 0 fails only for zeros). The result is then empty, as run and build_facets leave it.
+  unsigned positive = 0;
+#if TETIA_KERNEL_SSE2
+  {
+    const __m128d z = _mm_setzero_pd();
+    __m128d lo = _mm_cmpgt_pd(_mm_loadu_pd(C[0]), z), hi = _mm_cmpgt_pd(_mm_loadu_pd(C[0] + 2), z);
+    for (int i = 1; i < 4; ++i) {
+      lo = _mm_or_pd(lo, _mm_cmpgt_pd(_mm_loadu_pd(C[i]), z));
+      hi = _mm_or_pd(hi, _mm_cmpgt_pd(_mm_loadu_pd(C[i] + 2), z));
+    }
+    positive = unsigned(_mm_movemask_pd(lo)) | unsigned(_mm_movemask_pd(hi)) << 2;
+  }
+#else
+  for (int i = 0; i < 4; ++i)
+    for (int p = 0; p < 4; ++p) positive |= unsigned(C[i][p] > 0.0) << p;
+#endif
+  if (positive != 0xFu) {
+    res.num_corners = 0;
+    res.num_facets = 0;
+    res.facet_begin[0] = 0;
+    res.contradiction = false;
+    res.ref_volume = 0.0;
+    res.ref_first[0] = res.ref_first[1] = res.ref_first[2] = 0.0;
+    return true;
+  }
   if (stats) {
     Kernel<kFull, true> k(C, stats);
     k.run(res);
