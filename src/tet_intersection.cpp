@@ -1095,24 +1095,35 @@ bool build_facets(KernelResult& r) {
     r.facet_index[used++] = static_cast<u8>(first);
     std::uint32_t visited = (1u << start) | (1u << first);
     double fv = 0.0, ax = 0.0, ay = 0.0, az = 0.0, bx = 0.0, by = 0.0, bz = 0.0, fm[3] = {0.0, 0.0, 0.0};
+    // For the moments: o + (start's coordinates), the same for every triangle of the fan, and
+    // the previous corner's coordinates, kept in registers (the index stores are of a char
+    // type and would otherwise force them to be loaded again at every step).
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0, q0 = 0.0, q1 = 0.0, q2 = 0.0;
     if constexpr (kVolume) {
       rel(start, ax, ay, az);
       rel(first, bx, by, bz);
+    }
+    if constexpr (kMoments) {
+      const double* p0 = r.corners[start].bary;
+      const double* p1 = r.corners[first].bary;
+      s0 = o[0] + p0[1], s1 = o[1] + p0[2], s2 = o[2] + p0[3];
+      q0 = p1[1], q1 = p1[2], q2 = p1[3];
     }
     int prev = first, cur = across[first][a] ^ start;
     while (cur != start) {
       visited |= 1u << cur;
       r.facet_index[used++] = static_cast<u8>(cur);
       if constexpr (kVolume) {
-        double cx, cy, cz;
-        rel(cur, cx, cy, cz);
+        const double* p2 = r.corners[cur].bary;
+        const double px = p2[1], py = p2[2], pz = p2[3];
+        const double cx = px - o[0], cy = py - o[1], cz = pz - o[2];  // rel(cur)
         const double d = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
         fv += d;
-        if constexpr (kMoments) {
-          const double* p0 = r.corners[start].bary;
-          const double* p1 = r.corners[prev].bary;
-          const double* p2 = r.corners[cur].bary;
-          for (int c = 0; c < 3; ++c) fm[c] += d * (o[c] + p0[c + 1] + p1[c + 1] + p2[c + 1]);
+        if constexpr (kMoments) {  // d * (o + p0 + p1 + p2), in that order
+          fm[0] += d * (s0 + q0 + px);
+          fm[1] += d * (s1 + q1 + py);
+          fm[2] += d * (s2 + q2 + pz);
+          q0 = px, q1 = py, q2 = pz;
         }
         bx = cx, by = cy, bz = cz;
       }
