@@ -24,6 +24,7 @@
 #include <bit>
 #include <new>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 
@@ -1302,10 +1303,12 @@ double shape_quality(const Tet& t, double& det6) {
 void shape_qualities(const Tet& U, const Tet& V, double& qU, double& detU, double& qV, double& detV) {
 #if TETIA_KERNEL_SSE2
   __m128d x[4], y[4], z[4];
-  for (int k = 0; k < 4; ++k) {
-    x[k] = _mm_set_pd(V[k].x, U[k].x);
-    y[k] = _mm_set_pd(V[k].y, U[k].y);
-    z[k] = _mm_set_pd(V[k].z, U[k].z);
+  static_assert(sizeof(Vec3) == 3 * sizeof(double) && offsetof(Vec3, y) == sizeof(double));
+  for (int k = 0; k < 4; ++k) {  // (x, y) of each point as one load, then unpacked
+    const __m128d u = _mm_loadu_pd(&U[k].x), v = _mm_loadu_pd(&V[k].x);
+    x[k] = _mm_unpacklo_pd(u, v);
+    y[k] = _mm_unpackhi_pd(u, v);
+    z[k] = _mm_loadh_pd(_mm_load_sd(&U[k].z), &V[k].z);
   }
   struct V2 {
     __m128d x, y, z;
