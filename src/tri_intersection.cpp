@@ -297,12 +297,14 @@ bool Kernel::run(KernelResult& out) {
   return cur == 0;
 }
 
-// twice the signed area of (a, b, c) to nearly full relative accuracy, even for a needle whose
+// Twice the signed area of (a, b, c) to nearly full relative accuracy, even for a needle whose
 // vertices are almost collinear (there the plain formula loses all digits to the rounding of
 // the differences). The differences and the two main products are formed exactly (Knuth's
 // two-difference, Dekker's product: no fused multiply-add, which this project keeps off) and
-// summed in double-double. Used only where a sliver's own area scales the
-// result (see corner_coordinates); the sign decisions never need it.
+// summed in double-double. Used for a triangle's own determinant when the plain one is not
+// certain to 1e-14 (shape_quality): a needle's orientation, its flatness, and its area where
+// it scales the result (corner_coordinates); and for a vertex of the reference inside a needle
+// (BarycentricMap::accurate). The sign logic on X's coordinates does not use it.
 struct DoubleDouble {
   double hi = 0.0, lo = 0.0;
 
