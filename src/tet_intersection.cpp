@@ -1371,14 +1371,14 @@ struct BarycentricMap {
 #if TETIA_KERNEL_SSE2
     // The loop below for faces (0, 1) and (2, 3) at once: first vertices (r1, r0), (r0, r0),
     // second (r2, r2), (r1, r1), third (r3, r3), (r3, r2) (kFaceVerts).
+    // (x, y) of each vertex as one load; pairs of coordinates by unpacking.
+    const __m128d L[4] = {_mm_loadu_pd(&r[0].x), _mm_loadu_pd(&r[1].x), _mm_loadu_pd(&r[2].x), _mm_loadu_pd(&r[3].x)};
+    const auto zz = [&](int lo, int hi) { return _mm_loadh_pd(_mm_load_sd(&r[lo].z), &r[hi].z); };
     for (int h = 0; h < 2; ++h) {
-      const Vec3& a0 = r[h == 0 ? 1 : 0];
-      const Vec3& b0 = r[h == 0 ? 2 : 1];
-      const Vec3& c0 = r[3];
-      const Vec3& c1 = r[h == 0 ? 3 : 2];
-      const __m128d f0x = _mm_set_pd(r[0].x, a0.x), f0y = _mm_set_pd(r[0].y, a0.y), f0z = _mm_set_pd(r[0].z, a0.z);
-      const __m128d f1x = _mm_set1_pd(b0.x), f1y = _mm_set1_pd(b0.y), f1z = _mm_set1_pd(b0.z);
-      const __m128d f2x = _mm_set_pd(c1.x, c0.x), f2y = _mm_set_pd(c1.y, c0.y), f2z = _mm_set_pd(c1.z, c0.z);
+      const int a0 = h == 0 ? 1 : 0, b0 = h == 0 ? 2 : 1, c0 = 3, c1 = h == 0 ? 3 : 2;
+      const __m128d f0x = _mm_unpacklo_pd(L[a0], L[0]), f0y = _mm_unpackhi_pd(L[a0], L[0]), f0z = zz(a0, 0);
+      const __m128d f1x = _mm_unpacklo_pd(L[b0], L[b0]), f1y = _mm_unpackhi_pd(L[b0], L[b0]), f1z = zz(b0, b0);
+      const __m128d f2x = _mm_unpacklo_pd(L[c0], L[c1]), f2y = _mm_unpackhi_pd(L[c0], L[c1]), f2z = zz(c0, c1);
       const __m128d d1x = _mm_sub_pd(f1x, f0x), d1y = _mm_sub_pd(f1y, f0y), d1z = _mm_sub_pd(f1z, f0z);
       const __m128d d2x = _mm_sub_pd(f2x, f0x), d2y = _mm_sub_pd(f2y, f0y), d2z = _mm_sub_pd(f2z, f0z);
       const __m128d yz = _mm_mul_pd(d1y, d2z), zy = _mm_mul_pd(d1z, d2y), zx = _mm_mul_pd(d1z, d2x),
@@ -1395,10 +1395,15 @@ struct BarycentricMap {
       _mm_store_pd(py + k, _mm_add_pd(_mm_andnot_pd(sign, zx), _mm_andnot_pd(sign, xz)));
       _mm_store_pd(pz + k, _mm_add_pd(_mm_andnot_pd(sign, xy), _mm_andnot_pd(sign, yx)));
     }
-    for (int k = 0; k < 4; ++k) {
-      vx[k] = r[k].x, vy[k] = r[k].y, vz[k] = r[k].z;
-      scale[k] = (k % 2 == 0) ? -inv : inv;
-    }
+    _mm_store_pd(vx, _mm_unpacklo_pd(L[0], L[1]));
+    _mm_store_pd(vx + 2, _mm_unpacklo_pd(L[2], L[3]));
+    _mm_store_pd(vy, _mm_unpackhi_pd(L[0], L[1]));
+    _mm_store_pd(vy + 2, _mm_unpackhi_pd(L[2], L[3]));
+    _mm_store_pd(vz, zz(0, 1));
+    _mm_store_pd(vz + 2, zz(2, 3));
+    const __m128d sc = _mm_set_pd(inv, -inv);  // scale[k] = (k % 2 == 0) ? -inv : inv
+    _mm_store_pd(scale, sc);
+    _mm_store_pd(scale + 2, sc);
 #else
     for (int k = 0; k < 4; ++k) {
       vx[k] = r[k].x, vy[k] = r[k].y, vz[k] = r[k].z;
