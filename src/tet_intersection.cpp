@@ -1650,7 +1650,20 @@ struct PolyhedronBuilder {
   static bool fill(Polyhedron& P, const detail::Frame& fr, detail::KernelResult& res, bool check) {
     using detail::RawCorner;
     std::int8_t dir[8] = {1, 1, 1, 1, 1, 1, 1, 1};
-    if (res.num_facets > 0 && !detail::orient_facet_dirs(res, check, dir)) return false;
+    if (res.num_facets > 0) {
+      // orient_facet_dirs' usual outcome without `check`: every facet's fan volume trusted, and
+      // its sign the facet's direction. Otherwise (or with `check`) it decides.
+      bool trusted = !check;
+      if (trusted) {
+        const double trust = 0x1p-40 * std::max(1.0, res.coordinate_scale);
+        for (int f = 0; f < res.num_facets; ++f) {
+          const double v = res.facet_volume6[f];
+          trusted &= std::abs(v) > trust;
+          dir[f] = static_cast<std::int8_t>(1 - 2 * int(!(v > 0.0)));  // v > 0.0 ? 1 : -1
+        }
+      }
+      if (!trusted && !detail::orient_facet_dirs(res, check, dir)) return false;
+    }
     // Outward in the reference frame; a negatively oriented reference maps outward to inward,
     // so the facets are then reversed once more.
     const bool flip_all = fr.det6 < 0.0;
