@@ -15,35 +15,10 @@
 #include "tetia/kernel_trace.hpp"
 #include "tetia/tet_intersection.hpp"
 
-// Counts heap allocations made through operator new in this test program, to check that the
+// Counts heap allocations (operator new replaced in this test program), to check that the
 // kernel allocates nothing.
-namespace {
-std::atomic<long> g_allocations{0};
-}
-// A replacement operator new may take its memory from malloc and the matching operator delete
-// return it with free; GCC's -Wmismatched-new-delete does not see that they are a pair.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-// The other forms too: a replaced delete is used by every library in the process (Gmsh's
-// dependencies allocate with the nothrow and array forms), so all of them must pair up.
-void* operator new[](std::size_t n) { return operator new(n); }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  ++g_allocations;
-  return std::malloc(n ? n : 1);
-}
-void* operator new[](std::size_t n, const std::nothrow_t& t) noexcept { return operator new(n, t); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
-#pragma GCC diagnostic pop
+#include "support/count_allocations.hpp"
+using tetia::testsupport::allocations;
 
 namespace {
 
@@ -337,7 +312,7 @@ TEST(Kernel, NoHeapAllocation) {
   Tet mirror = kRef;
   for (auto& v : mirror) v.x = -v.x;
   pairs.emplace_back(kRef, mirror);
-  const long before = g_allocations.load();
+  const long before = allocations.load();
   double sum = 0.0;
   IntersectionStats st;
   for (const auto& [U, V] : pairs) {
@@ -345,11 +320,11 @@ TEST(Kernel, NoHeapAllocation) {
     sum += intersection_moments(U, V).volume;
     sum += intersect(U, V, &st).volume();
   }
-  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_EQ(allocations.load(), before);
   EXPECT_GT(sum, 0.0);
   // The counter does see allocations (tetrahedra() returns a vector).
   const auto tets = intersect(kRef, kRef).tetrahedra();
-  EXPECT_GT(g_allocations.load(), before);
+  EXPECT_GT(allocations.load(), before);
   EXPECT_FALSE(tets.empty());
 }
 

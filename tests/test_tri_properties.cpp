@@ -52,35 +52,10 @@
 #include "tetia/exact.hpp"
 #include "tetia/tri_intersection.hpp"
 
-// Counts heap allocations made through operator new in this test program, to check that the
-// 2D kernel allocates nothing (as tests/test_tet_intersection.cpp does for 3D).
-namespace {
-std::atomic<long> g_allocations{0};
-}
-// A replacement operator new may take its memory from malloc and the matching operator delete
-// return it with free; GCC's -Wmismatched-new-delete does not see that they are a pair.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-// The other forms too: a replaced delete is used by every library in the process (Gmsh's
-// dependencies allocate with the nothrow and array forms), so all of them must pair up.
-void* operator new[](std::size_t n) { return operator new(n); }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  ++g_allocations;
-  return std::malloc(n ? n : 1);
-}
-void* operator new[](std::size_t n, const std::nothrow_t& t) noexcept { return operator new(n, t); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
-#pragma GCC diagnostic pop
+// Counts heap allocations (operator new replaced in this test program), to check that the
+// 2D kernel allocates nothing.
+#include "support/count_allocations.hpp"
+using tetia::testsupport::allocations;
 
 namespace {
 
@@ -752,7 +727,7 @@ TEST(TriIntersect, NoHeapAllocation) {
   for (const Triangle& a : lattice_tris())
     for (const Triangle& b : lattice_tris()) pairs.emplace_back(a, translate(scale(b, 0.5), {0.25, 0.25}));
   pairs.emplace_back(Triangle{Vec2{0, 0}, Vec2{3, 0}, Vec2{0, 3}}, Triangle{Vec2{2, 2}, Vec2{-1, 2}, Vec2{2, -1}});
-  const long before = g_allocations.load();
+  const long before = allocations.load();
   double sum = 0.0;
   TriIntersectionStats st;
   for (const auto& [a, b] : pairs) {
@@ -761,11 +736,11 @@ TEST(TriIntersect, NoHeapAllocation) {
     sum += intersect(a, b).area();
     sum += intersect(b, a, &st).area();
   }
-  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_EQ(allocations.load(), before);
   EXPECT_GT(sum, 0.0);
   // The counter does see allocations (triangles() returns a vector).
   const auto tris = intersect(kRef, kRef).triangles();
-  EXPECT_GT(g_allocations.load(), before);
+  EXPECT_GT(allocations.load(), before);
   EXPECT_FALSE(tris.empty());
 }
 
