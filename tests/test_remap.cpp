@@ -9,7 +9,6 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <numeric>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -19,6 +18,7 @@
 #include "tetia/mesh.hpp"
 #include "tetia/remap.hpp"
 #include "tetia/supermesh.hpp"
+#include "support/remap_checks.hpp"
 
 namespace {
 
@@ -57,11 +57,7 @@ Supermesh make_supermesh(const TetMesh& src, const TetMesh& tgt, bool keep) {
   return tetia::supermesh(src, tgt, o);
 }
 
-std::vector<double> at_nodes(const TetMesh& m, const std::function<double(Vec3)>& f) {
-  std::vector<double> v(m.num_nodes());
-  for (std::size_t i = 0; i < m.num_nodes(); ++i) v[i] = f(m.nodes[i]);
-  return v;
-}
+using tetia::testsupport::at_nodes;
 
 double smooth(Vec3 p) { return std::sin(p.x) * std::cos(p.y) * std::exp(p.z); }
 double linear(Vec3 p) { return 1.0 + 2.0 * p.x - 3.0 * p.y + 0.5 * p.z; }
@@ -73,25 +69,7 @@ TEST(RemapP0, ConstantReproducedAndIntegralConservedOnTheSameDomain) {
   const TetMesh src = jittered(4, 1);
   const TetMesh tgt = jittered(5, 2);
   const Supermesh s = make_supermesh(src, tgt, false);
-  const std::vector<double> c(src.num_cells(), 2.5);
-  for (const auto norm : {P0Normalization::cell_volume, P0Normalization::covered_volume}) {
-    const auto out = tetia::remap_p0(s, c, norm);
-    ASSERT_EQ(out.size(), tgt.num_cells());
-    for (const double v : out) EXPECT_NEAR(v, 2.5, 2.5 * 1e-13);
-  }
-  // A general field: the integral is conserved.
-  std::mt19937_64 g(7);
-  std::uniform_real_distribution<double> u(-1.0, 3.0);
-  std::vector<double> in(src.num_cells());
-  for (double& v : in) v = u(g);
-  const auto out = tetia::remap_p0(s, in);
-  const double si = tetia::integral_p0(src, in), ti = tetia::integral_p0(tgt, out);
-  EXPECT_NEAR(ti, si, 1e-13 * std::abs(si));
-  // Values are averages of source values: within their range.
-  for (const double v : out) {
-    EXPECT_GE(v, -1.0 - 1e-13);
-    EXPECT_LE(v, 3.0 + 1e-13);
-  }
+  tetia::testsupport::expect_p0_constant_and_conservation(s, src, tgt);
 }
 
 TEST(RemapP0, PartialCoverageBothNormalizations) {
@@ -101,32 +79,7 @@ TEST(RemapP0, PartialCoverageBothNormalizations) {
   const TetMesh tgt = kuhn(5);
   const Supermesh s = make_supermesh(src, tgt, false);
   const auto cov = tetia::covered_volumes(s);
-  EXPECT_NEAR(std::accumulate(cov.begin(), cov.end(), 0.0), 0.125, 1e-15);
-  std::size_t full = 0, partial = 0, none = 0;
-  for (std::size_t t = 0; t < tgt.num_cells(); ++t) {
-    if (cov[t] == 0.0) ++none;
-    else if (std::abs(cov[t] - tgt.volumes[t]) <= 1e-13 * tgt.volumes[t]) ++full;
-    else ++partial;
-  }
-  EXPECT_GT(full, 0u);
-  EXPECT_GT(partial, 0u);
-  EXPECT_GT(none, 0u);
-
-  const std::vector<double> c(src.num_cells(), -1.5);
-  // cell_volume (default): the source counts as zero outside its domain; the integral over the
-  // target equals the source integral.
-  const auto a = tetia::remap_p0(s, c);
-  for (std::size_t t = 0; t < tgt.num_cells(); ++t)
-    EXPECT_NEAR(a[t], -1.5 * cov[t] / tgt.volumes[t], 1e-13);
-  EXPECT_NEAR(tetia::integral_p0(tgt, a), tetia::integral_p0(src, c), 1e-14);
-  // covered_volume: the constant on every touched cell, 0 elsewhere; sum u_t covered_t conserved.
-  const auto b = tetia::remap_p0(s, c, P0Normalization::covered_volume);
-  double conserved = 0.0;
-  for (std::size_t t = 0; t < tgt.num_cells(); ++t) {
-    EXPECT_NEAR(b[t], cov[t] > 0.0 ? -1.5 : 0.0, 1e-13);
-    conserved += b[t] * cov[t];
-  }
-  EXPECT_NEAR(conserved, tetia::integral_p0(src, c), 1e-14);
+  tetia::testsupport::expect_partial_coverage(s, src, tgt, cov, 0.125);
 }
 
 TEST(RemapP0, RejectsWrongSizes) {
@@ -144,24 +97,8 @@ TEST(RemapP1, LinearFieldReproducedAndIntegralConserved) {
   const TetMesh src = jittered(3, 3);
   const TetMesh tgt = jittered(4, 4);
   const Supermesh s = make_supermesh(src, tgt, true);
-  tetia::P1RemapReport report;
-  const auto out = tetia::remap_p1(s, at_nodes(src, linear), &report);
-  ASSERT_EQ(out.size(), tgt.num_nodes());
-  double worst = 0.0;
-  for (std::size_t i = 0; i < tgt.num_nodes(); ++i) worst = std::max(worst, std::abs(out[i] - linear(tgt.nodes[i])));
-  EXPECT_LT(worst, 1e-10);
-  std::printf("  linear field: max nodal error %.3g, CG %d iterations, residual %.3g\n", worst, report.iterations,
-              report.residual);
-  // The integral of a smooth (non-linear) field.
-  const auto in = at_nodes(src, smooth);
-  const auto sm = tetia::remap_p1(s, in, &report);
-  const double si = tetia::integral_p1(src, in), ti = tetia::integral_p1(tgt, sm);
-  EXPECT_NEAR(ti, si, 1e-12 * std::abs(si));
-  std::printf("  smooth field: integral %.17g -> %.17g (relative %.3g)\n", si, ti, std::abs(ti - si) / std::abs(si));
-  // Identical meshes: the projection is the identity.
-  const Supermesh id = make_supermesh(src, src, true);
-  const auto same = tetia::remap_p1(id, in);
-  for (std::size_t i = 0; i < src.num_nodes(); ++i) EXPECT_NEAR(same[i], in[i], 1e-12);
+  tetia::testsupport::expect_p1_linear_conservation_identity(s, make_supermesh(src, src, true), src, tgt, linear,
+                                                              smooth);
 }
 
 TEST(RemapP1, PartialCoverageConservesTheIntegralOverTheOverlap) {

@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <numeric>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -20,6 +19,7 @@
 #include "tetia/mesh.hpp"
 #include "tetia/remap.hpp"
 #include "tetia/supermesh.hpp"
+#include "support/remap_checks.hpp"
 
 namespace {
 
@@ -56,11 +56,7 @@ Supermesh2 make_supermesh(const TriMesh& src, const TriMesh& tgt, bool keep) {
   return tetia::supermesh(src, tgt, o);
 }
 
-std::vector<double> at_nodes(const TriMesh& m, const std::function<double(Vec2)>& f) {
-  std::vector<double> v(m.num_nodes());
-  for (std::size_t i = 0; i < m.num_nodes(); ++i) v[i] = f(m.nodes[i]);
-  return v;
-}
+using tetia::testsupport::at_nodes;
 
 double smooth(Vec2 p) { return std::sin(p.x) * std::cos(p.y); }
 double linear(Vec2 p) { return 1.0 + 2.0 * p.x - 3.0 * p.y; }
@@ -72,26 +68,7 @@ TEST(Remap2DP0, ConstantReproducedAndIntegralConservedOnTheSameDomain) {
   const TriMesh src = jittered(9, 1);
   const TriMesh tgt = jittered(11, 2);
   const Supermesh2 s = make_supermesh(src, tgt, false);
-  const std::vector<double> c(src.num_cells(), 2.5);
-  for (const auto norm : {P0Normalization::cell_volume, P0Normalization::covered_volume}) {
-    const auto out = tetia::remap_p0(s, c, norm);
-    ASSERT_EQ(out.size(), tgt.num_cells());
-    double worst = 0.0;
-    for (const double v : out) worst = std::max(worst, std::abs(v - 2.5) / 2.5);
-    EXPECT_LE(worst, 1e-13);
-  }
-  std::mt19937_64 g(7);
-  std::uniform_real_distribution<double> u(-1.0, 3.0);
-  std::vector<double> in(src.num_cells());
-  for (double& v : in) v = u(g);
-  const auto out = tetia::remap_p0(s, in);
-  const double si = tetia::integral_p0(src, in), ti = tetia::integral_p0(tgt, out);
-  EXPECT_NEAR(ti, si, 1e-13 * std::abs(si));
-  std::printf("  P0 random field: integral %.17g -> %.17g (relative %.3g)\n", si, ti, std::abs(ti - si) / std::abs(si));
-  for (const double v : out) {
-    EXPECT_GE(v, -1.0 - 1e-13);
-    EXPECT_LE(v, 3.0 + 1e-13);
-  }
+  tetia::testsupport::expect_p0_constant_and_conservation(s, src, tgt);
   // Gmsh meshes of a disk, both ways.
   const TriMesh a = tetia::generate_disk({1.0, 0.5}, 0.8, 0.1), b = tetia::generate_disk({1.0, 0.5}, 0.8, 0.13);
   const auto in_a = tetia::average_over_cells(a, smooth);
@@ -110,28 +87,7 @@ TEST(Remap2DP0, PartialCoverageBothNormalizations) {
   const TriMesh tgt = grid(5);
   const Supermesh2 s = make_supermesh(src, tgt, false);
   const auto cov = tetia::covered_areas(s);
-  EXPECT_NEAR(std::accumulate(cov.begin(), cov.end(), 0.0), 0.25, 1e-15);
-  std::size_t full = 0, partial = 0, none = 0;
-  for (std::size_t t = 0; t < tgt.num_cells(); ++t) {
-    if (cov[t] == 0.0) ++none;
-    else if (std::abs(cov[t] - tgt.areas[t]) <= 1e-13 * tgt.areas[t]) ++full;
-    else ++partial;
-  }
-  EXPECT_GT(full, 0u);
-  EXPECT_GT(partial, 0u);
-  EXPECT_GT(none, 0u);
-
-  const std::vector<double> c(src.num_cells(), -1.5);
-  const auto a = tetia::remap_p0(s, c);
-  for (std::size_t t = 0; t < tgt.num_cells(); ++t) EXPECT_NEAR(a[t], -1.5 * cov[t] / tgt.areas[t], 1e-13);
-  EXPECT_NEAR(tetia::integral_p0(tgt, a), tetia::integral_p0(src, c), 1e-14);
-  const auto b = tetia::remap_p0(s, c, P0Normalization::covered_volume);
-  double conserved = 0.0;
-  for (std::size_t t = 0; t < tgt.num_cells(); ++t) {
-    EXPECT_NEAR(b[t], cov[t] > 0.0 ? -1.5 : 0.0, 1e-13);
-    conserved += b[t] * cov[t];
-  }
-  EXPECT_NEAR(conserved, tetia::integral_p0(src, c), 1e-14);
+  tetia::testsupport::expect_partial_coverage(s, src, tgt, cov, 0.25);
 }
 
 TEST(Remap2DP0, RejectsWrongSizes) {
@@ -150,26 +106,12 @@ TEST(Remap2DP1, LinearFieldReproducedAndIntegralConserved) {
   const TriMesh src = jittered(7, 3);
   const TriMesh tgt = jittered(9, 4);
   const Supermesh2 s = make_supermesh(src, tgt, true);
-  tetia::P1RemapReport report;
-  const auto out = tetia::remap_p1(s, at_nodes(src, linear), &report);
-  ASSERT_EQ(out.size(), tgt.num_nodes());
-  double worst = 0.0;
-  for (std::size_t i = 0; i < tgt.num_nodes(); ++i) worst = std::max(worst, std::abs(out[i] - linear(tgt.nodes[i])));
-  EXPECT_LT(worst, 1e-10);
-  std::printf("  linear field: max nodal error %.3g, CG %d iterations, residual %.3g\n", worst, report.iterations,
-              report.residual);
-  const auto in = at_nodes(src, smooth);
-  const auto sm = tetia::remap_p1(s, in, &report);
-  const double si = tetia::integral_p1(src, in), ti = tetia::integral_p1(tgt, sm);
-  EXPECT_NEAR(ti, si, 1e-12 * std::abs(si));
-  std::printf("  smooth field: integral %.17g -> %.17g (relative %.3g)\n", si, ti, std::abs(ti - si) / std::abs(si));
-  // Identical meshes: the projection is the identity.
-  const auto same = tetia::remap_p1(make_supermesh(src, src, true), in);
-  for (std::size_t i = 0; i < src.num_nodes(); ++i) EXPECT_NEAR(same[i], in[i], 1e-12);
+  tetia::testsupport::expect_p1_linear_conservation_identity(s, make_supermesh(src, src, true), src, tgt, linear,
+                                                              smooth);
   // Gmsh meshes of one rectangle (non-matching, unstructured).
   const TriMesh a = tetia::generate_rectangle({0, 0}, {2, 1}, 0.1), b = tetia::generate_rectangle({0, 0}, {2, 1}, 0.13);
   const auto lb = tetia::remap_p1(make_supermesh(a, b, true), at_nodes(a, linear));
-  worst = 0.0;
+  double worst = 0.0;
   for (std::size_t i = 0; i < b.num_nodes(); ++i) worst = std::max(worst, std::abs(lb[i] - linear(b.nodes[i])));
   EXPECT_LT(worst, 1e-10);
 }
