@@ -510,6 +510,16 @@ void print_p1_row(const P1Row& r) {
 }
 
 // Both ways on one pair, for each thread count; the remapped values must agree bit for bit.
+// The boxes: source element size for about 10^3 ... 10^6 cells (Gmsh's count jumps with the
+// number of boundary segments, ceil(1/h)); the target is meshed at h / 1.07.
+struct BoxLevel {
+  const char* label;
+  std::size_t nominal;
+  double h;
+};
+constexpr BoxLevel kBoxLevels[] = {{"box 1e3", 1000, 0.19}, {"box 1e4", 10000, 0.082}, {"box 1e5", 100000, 0.037},
+                                   {"box 1e6", 1000000, 0.0166}};
+
 bool run_p1_case(const std::string& label, const tetia::TetMesh& src, const tetia::TetMesh& tgt, const Options& o) {
   std::vector<double> field(src.num_nodes());
   for (std::size_t n = 0; n < src.num_nodes(); ++n) {
@@ -662,16 +672,7 @@ int main(int argc, char** argv) {
       }
     }
     if (o.boxes) {
-      // Source element size for about 10^3 ... 10^6 cells (Gmsh's count jumps with the number
-      // of boundary segments, ceil(1/h)); the target is meshed at h / 1.07.
-      struct Level {
-        const char* label;
-        std::size_t nominal;
-        double h;
-      };
-      const Level levels[] = {{"box 1e3", 1000, 0.19}, {"box 1e4", 10000, 0.082}, {"box 1e5", 100000, 0.037},
-                              {"box 1e6", 1000000, 0.0166}};
-      for (const Level& lv : levels) {
+      for (const BoxLevel& lv : kBoxLevels) {
         if (lv.nominal > o.max_cells) {
           std::printf("%s: skipped (--max-cells=%zu)\n", lv.label, o.max_cells);
           continue;
@@ -699,22 +700,16 @@ int main(int argc, char** argv) {
         ok &= run_p1_case("p1 pyr x cube", p, c, o);
         std::printf("\n");
       }
-      struct Level {
-        const char* label;
-        std::size_t nominal;
-        double h;
-      };
-      const Level levels[] = {{"p1 box 1e3", 1000, 0.19}, {"p1 box 1e4", 10000, 0.082}, {"p1 box 1e5", 100000, 0.037},
-                              {"p1 box 1e6", 1000000, 0.0166}};
-      for (const Level& lv : levels) {
+      for (const BoxLevel& lv : kBoxLevels) {
+        const std::string label = std::string("p1 ") + lv.label;
         if (lv.nominal > o.max_cells) {
-          std::printf("%s: skipped (--max-cells=%zu)\n", lv.label, o.max_cells);
+          std::printf("%s: skipped (--max-cells=%zu)\n", label.c_str(), o.max_cells);
           continue;
         }
         const tetia::TetMesh src = cached_box(o, lv.h);
         const tetia::TetMesh tgt = cached_box(o, lv.h / 1.07);
         print_p1_header();
-        ok &= run_p1_case(lv.label, src, tgt, o);
+        ok &= run_p1_case(label, src, tgt, o);
         std::printf("\n");
       }
     }
