@@ -70,7 +70,10 @@
 #include <cstdint>
 #include <iterator>
 #include <memory>
+#include <optional>
+#include <type_traits>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #ifdef __linux__
@@ -83,6 +86,7 @@
 
 #include "dimension.hpp"
 #include "mixed_mass.hpp"
+#include "one_to_many.hpp"
 #include "tetia/tet_intersection.hpp"
 #include "tetia/tri_intersection.hpp"
 
@@ -270,6 +274,8 @@ struct Shared {
   const typename Tree<Dm::d>::RTree& tree;
   const std::vector<Box<Dm::d>>& target_box;
   const std::vector<std::uint8_t>& risky;  // target has a boundary face or a flat neighbour
+  // 3D: each target's conditioning, computed once (see src/one_to_many.hpp); empty in 2D.
+  const std::vector<detail::Conditioning>& target_conditioning;
   bool keep_shapes;  // keep the polyhedra (polygons)
   bool keep_mass;    // keep each piece's local mixed mass matrix
   // Per source cell, written only by the thread that owns its chunk.
@@ -386,7 +392,9 @@ class Worker {
         detail::piece_mixed_mass<Mesh>(S_, shape_, mass_.back());
       }
     } else {
-      m = intersection_moments(S_, T_);
+      // In 3D with what depends on s or t alone computed once (bit for bit the same moments).
+      if constexpr (Dm::d == 3) m = one_.moments(T_, sh_.target_conditioning[static_cast<std::size_t>(t)]);
+      else m = intersection_moments(S_, T_);
       if (!(Dm::measure(m) > floor)) return false;
     }
     reserve_for_one_more(pieces_);
@@ -425,6 +433,7 @@ class Worker {
     risky_hit_ = false;
     covered_ = 0.0;
     S_ = sh_.source.cell(static_cast<std::size_t>(s));
+    if constexpr (Dm::d == 3) one_.emplace(S_);
     svol_ = Dm::measures(sh_.source)[static_cast<std::size_t>(s)];
     sbox_ = box_of<Mesh>(S_);
     sh_.piece_begin[static_cast<std::size_t>(s)] = pieces_.size();
@@ -493,6 +502,13 @@ class Worker {
   Box<Dm::d> sbox_{};
   double svol_ = 0.0;
   Shape shape_;
+  // 3D: the source cell prepared for intersection_moments with many targets.
+  struct OneToManyHolder {
+    std::optional<detail::OneToMany> v;
+    void emplace(const Tet& s) { v.emplace(s); }
+    Moments moments(const Tet& t, const detail::Conditioning& c) const { return v->moments(t, c); }
+  };
+  std::conditional_t<Dm::d == 3, OneToManyHolder, std::monostate> one_;
 };
 
 // The visiting order of the source cells: by the Morton code of their centroids (63 / d bits
@@ -554,6 +570,7 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
   // Target bounding boxes, the R-tree (packed: bulk loading), and risky targets.
   std::vector<Box<Dm::d>> target_box(nt);
   std::vector<std::uint8_t> risky(nt, 0);
+  std::vector<detail::Conditioning> target_conditioning(Dm::d == 3 ? nt : 0);
   std::vector<typename TreeT::Value> values(nt);
   const auto nt_i = static_cast<std::int64_t>(nt);
   const auto& target_measures = Dm::measures(target);
@@ -566,6 +583,7 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
     for (const std::int32_t n : target.neighbors[t])
       r |= static_cast<std::uint8_t>(n < 0 || !(target_measures[static_cast<std::size_t>(n)] > 0.0));
     risky[t] = r;
+    if constexpr (Dm::d == 3) target_conditioning[t] = detail::conditioning(target.cell(t));
   }
   const typename TreeT::RTree tree(values.begin(), values.end());
   values = {};
@@ -579,7 +597,7 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
   // queries). The order depends on the mesh only: results stay identical for any thread count.
   std::vector<std::int32_t> order, rank;
   morton_order(source, order, rank);
-  const Shared<Mesh> sh{source, target, tree, target_box, risky, options.keep_polyhedra, options.keep_mixed_mass,
+  const Shared<Mesh> sh{source, target, tree, target_box, risky, target_conditioning, options.keep_polyhedra, options.keep_mixed_mass,
                         state, parent, piece_begin, piece_count, order, rank};
 
   // Chunks of consecutive positions in that order; their number depends on the mesh only.

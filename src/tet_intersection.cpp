@@ -30,13 +30,8 @@
 
 #include "tetia/kernel_trace.hpp"
 
-// SSE2 is part of x86-64; elsewhere the same computations run as scalar loops.
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#define TETIA_KERNEL_SSE2 1
-#else
-#define TETIA_KERNEL_SSE2 0
-#endif
+#include "barycentric_map.hpp"  // BarycentricMap, TETIA_KERNEL_SSE2 (SSE2 or scalar loops)
+#include "one_to_many.hpp"
 
 namespace tetia {
 
@@ -1391,133 +1386,6 @@ void shape_qualities(const Tet& U, const Tet& V, double& qU, double& detU, doubl
 #endif
 }
 
-// The change of coordinates of Section 2, eq. (1), one face at a time: coordinate k of a point
-// u is the signed distance of u from the face opposite vertex k, (u - a_k) . n_k, divided by
-// that of vertex k. Each face is translated to its own first vertex a_k before anything else,
-// as Section 2 advises, so the normals n_k are accurate for the face's own size and a point far
-// away (a big tetrahedron mapped into a tiny reference) keeps full relative accuracy; forming
-// the determinants around u instead would cancel catastrophically there. A point equal to a
-// vertex of the reference gets that vertex's coordinates exactly (1 and three exact zeros):
-// shared vertices, shared faces and identical tetrahedra, the normal case on conforming meshes,
-// are then decided exactly rather than by rounding.
-//
-// A coordinate whose computed value is within the rounding error bound of the determinant
-// (Shewchuk's bound for orient3d, (7 + 56 eps) eps times the permanent, with this same
-// evaluation order) has no reliable sign; it is set to exactly 0, which places the point on
-// the face. The result is then the exact answer for an input perturbed by less than its own
-// rounding, in the spirit of Corollary 2, and two tetrahedra that touch across a face up to an
-// ulp give exactly zero instead of a slab of rounding-sized volume.
-struct BarycentricMap {
-  // One entry per face k (opposite vertex k), as arrays over k.
-  alignas(16) double vx[4], vy[4], vz[4];  // the vertices, for the exact snapping
-  alignas(16) double ax[4], ay[4], az[4];  // anchor a_k: the face's first vertex
-  alignas(16) double nx[4], ny[4], nz[4];  // normal n_k
-  alignas(16) double px[4], py[4], pz[4];  // the terms of the normal in absolute value, for the permanent
-  alignas(16) double scale[4];  // +-1 / det6 with the sign that makes coordinate k of vertex k positive
-
-  static constexpr double kErrBound = (7.0 + 56.0 * 0x1p-53) * 0x1p-53;
-
-  BarycentricMap(const Tet& r, double det6) {
-    const double inv = 1.0 / det6;
-#if TETIA_KERNEL_SSE2
-    // The loop below for faces (0, 1) and (2, 3) at once: first vertices (r1, r0), (r0, r0),
-    // second (r2, r2), (r1, r1), third (r3, r3), (r3, r2) (kFaceVerts).
-    // (x, y) of each vertex as one load; pairs of coordinates by unpacking.
-    const __m128d L[4] = {_mm_loadu_pd(&r[0].x), _mm_loadu_pd(&r[1].x), _mm_loadu_pd(&r[2].x), _mm_loadu_pd(&r[3].x)};
-    const auto zz = [&](int lo, int hi) { return _mm_loadh_pd(_mm_load_sd(&r[lo].z), &r[hi].z); };
-    for (int h = 0; h < 2; ++h) {
-      const int a0 = h == 0 ? 1 : 0, b0 = h == 0 ? 2 : 1, c0 = 3, c1 = h == 0 ? 3 : 2;
-      const __m128d f0x = _mm_unpacklo_pd(L[a0], L[0]), f0y = _mm_unpackhi_pd(L[a0], L[0]), f0z = zz(a0, 0);
-      const __m128d f1x = _mm_unpacklo_pd(L[b0], L[b0]), f1y = _mm_unpackhi_pd(L[b0], L[b0]), f1z = zz(b0, b0);
-      const __m128d f2x = _mm_unpacklo_pd(L[c0], L[c1]), f2y = _mm_unpackhi_pd(L[c0], L[c1]), f2z = zz(c0, c1);
-      const __m128d d1x = _mm_sub_pd(f1x, f0x), d1y = _mm_sub_pd(f1y, f0y), d1z = _mm_sub_pd(f1z, f0z);
-      const __m128d d2x = _mm_sub_pd(f2x, f0x), d2y = _mm_sub_pd(f2y, f0y), d2z = _mm_sub_pd(f2z, f0z);
-      const __m128d yz = _mm_mul_pd(d1y, d2z), zy = _mm_mul_pd(d1z, d2y), zx = _mm_mul_pd(d1z, d2x),
-                    xz = _mm_mul_pd(d1x, d2z), xy = _mm_mul_pd(d1x, d2y), yx = _mm_mul_pd(d1y, d2x);
-      const __m128d sign = _mm_set1_pd(-0.0);
-      const int k = 2 * h;
-      _mm_store_pd(ax + k, f0x);
-      _mm_store_pd(ay + k, f0y);
-      _mm_store_pd(az + k, f0z);
-      _mm_store_pd(nx + k, _mm_sub_pd(yz, zy));
-      _mm_store_pd(ny + k, _mm_sub_pd(zx, xz));
-      _mm_store_pd(nz + k, _mm_sub_pd(xy, yx));
-      _mm_store_pd(px + k, _mm_add_pd(_mm_andnot_pd(sign, yz), _mm_andnot_pd(sign, zy)));
-      _mm_store_pd(py + k, _mm_add_pd(_mm_andnot_pd(sign, zx), _mm_andnot_pd(sign, xz)));
-      _mm_store_pd(pz + k, _mm_add_pd(_mm_andnot_pd(sign, xy), _mm_andnot_pd(sign, yx)));
-    }
-    _mm_store_pd(vx, _mm_unpacklo_pd(L[0], L[1]));
-    _mm_store_pd(vx + 2, _mm_unpacklo_pd(L[2], L[3]));
-    _mm_store_pd(vy, _mm_unpackhi_pd(L[0], L[1]));
-    _mm_store_pd(vy + 2, _mm_unpackhi_pd(L[2], L[3]));
-    _mm_store_pd(vz, zz(0, 1));
-    _mm_store_pd(vz + 2, zz(2, 3));
-    const __m128d sc = _mm_set_pd(inv, -inv);  // scale[k] = (k % 2 == 0) ? -inv : inv
-    _mm_store_pd(scale, sc);
-    _mm_store_pd(scale + 2, sc);
-#else
-    for (int k = 0; k < 4; ++k) {
-      vx[k] = r[k].x, vy[k] = r[k].y, vz[k] = r[k].z;
-      const Vec3 f0 = r[kFaceVerts[k][0]];
-      const Vec3 d1 = r[kFaceVerts[k][1]] - f0, d2 = r[kFaceVerts[k][2]] - f0;
-      ax[k] = f0.x, ay[k] = f0.y, az[k] = f0.z;
-      const Vec3 n = cross(d1, d2);
-      nx[k] = n.x, ny[k] = n.y, nz[k] = n.z;
-      px[k] = std::abs(d1.y * d2.z) + std::abs(d1.z * d2.y);
-      py[k] = std::abs(d1.z * d2.x) + std::abs(d1.x * d2.z);
-      pz[k] = std::abs(d1.x * d2.y) + std::abs(d1.y * d2.x);
-      // (r_k - f0) . n_k = orient3d(f0, f1, f2, r_k) = (-1)^(k+1) det6.
-      scale[k] = (k % 2 == 0) ? -inv : inv;
-    }
-#endif
-  }
-
-  // Coordinate k: with w = u - a_k, det = w . n_k (evaluated as (w.x n.x + w.y n.y) + w.z n.z)
-  // and the permanent |w.x| p.x + |w.y| p.y + |w.z| p.z, det * scale_k if |det| exceeds
-  // kErrBound times the permanent, else exactly 0. Then u equal to vertex k (the last such k)
-  // gets the unit coordinates of that vertex.
-  void operator()(Vec3 u, double (&out)[4]) const {
-    unsigned same = 0;  // bit k: u == vertex k
-#if TETIA_KERNEL_SSE2
-    const __m128d ux = _mm_set1_pd(u.x), uy = _mm_set1_pd(u.y), uz = _mm_set1_pd(u.z);
-    const __m128d sign = _mm_set1_pd(-0.0), bound = _mm_set1_pd(kErrBound);
-    for (int h = 0; h < 4; h += 2) {
-      const __m128d wx = _mm_sub_pd(ux, _mm_load_pd(ax + h)), wy = _mm_sub_pd(uy, _mm_load_pd(ay + h)),
-                    wz = _mm_sub_pd(uz, _mm_load_pd(az + h));
-      const __m128d det = _mm_add_pd(_mm_add_pd(_mm_mul_pd(wx, _mm_load_pd(nx + h)), _mm_mul_pd(wy, _mm_load_pd(ny + h))),
-                                     _mm_mul_pd(wz, _mm_load_pd(nz + h)));
-      const __m128d perm =
-          _mm_add_pd(_mm_add_pd(_mm_mul_pd(_mm_andnot_pd(sign, wx), _mm_load_pd(px + h)),
-                                _mm_mul_pd(_mm_andnot_pd(sign, wy), _mm_load_pd(py + h))),
-                     _mm_mul_pd(_mm_andnot_pd(sign, wz), _mm_load_pd(pz + h)));
-      const __m128d keep = _mm_cmpgt_pd(_mm_andnot_pd(sign, det), _mm_mul_pd(bound, perm));
-      _mm_storeu_pd(out + h, _mm_and_pd(keep, _mm_mul_pd(det, _mm_load_pd(scale + h))));
-      same |= unsigned(_mm_movemask_pd(_mm_cmpeq_pd(ux, _mm_load_pd(vx + h)))) << h;  // x only, first
-    }
-    if (same) {  // some vertex has u's x: compare the whole points
-      same = 0;
-      for (int h = 0; h < 4; h += 2) {
-        const __m128d eq = _mm_and_pd(_mm_and_pd(_mm_cmpeq_pd(ux, _mm_load_pd(vx + h)), _mm_cmpeq_pd(uy, _mm_load_pd(vy + h))),
-                                      _mm_cmpeq_pd(uz, _mm_load_pd(vz + h)));
-        same |= unsigned(_mm_movemask_pd(eq)) << h;
-      }
-    }
-#else
-    for (int k = 0; k < 4; ++k) {
-      const double wx = u.x - ax[k], wy = u.y - ay[k], wz = u.z - az[k];
-      const double det = wx * nx[k] + wy * ny[k] + wz * nz[k];
-      const double permanent = std::abs(wx) * px[k] + std::abs(wy) * py[k] + std::abs(wz) * pz[k];
-      out[k] = std::abs(det) > kErrBound * permanent ? det * scale[k] : 0.0;
-      same |= unsigned(u.x == vx[k] && u.y == vy[k] && u.z == vz[k]) << k;
-    }
-#endif
-    if (same) {
-      const int k = std::bit_width(same) - 1;
-      for (int q = 0; q < 4; ++q) out[q] = q == k ? 1.0 : 0.0;
-    }
-  }
-};
-
 // The frame of the reference tetrahedron and X's barycentric coordinates in it.
 struct Frame {
   const Tet* sub;  // U's role in the paper (mapped to X)
@@ -1527,12 +1395,12 @@ struct Frame {
   double C[4][4];
 };
 
-// Picks the reference (the better-conditioned tetrahedron; ties broken by comparing the
-// coordinates, so that (U, V) and (V, U) always choose the same one) and computes X.
-// Returns false for flat or non-finite input: the intersection is then empty.
-bool make_frame(const Tet& U, const Tet& V, Frame& fr, bool other_reference = false) {
-  double detU, detV, qU, qV;
-  shape_qualities(U, V, qU, detU, qV, detV);
+// make_frame once the conditioning of U and V is known; map_u: U's barycentric map if the
+// caller has it (OneToMany), used when U is the reference instead of building it again (the
+// same map: the same constructor on the same data).
+bool frame_from(const Tet& U, const Conditioning& cu, const BarycentricMap* map_u, const Tet& V,
+                const Conditioning& cv, Frame& fr, bool other_reference) {
+  const double qU = cu.quality, qV = cv.quality;
   // Non-finite coordinates make a quality NaN or infinite; flat ones make it zero.
   if (!(qU > 0.0) || !(qV > 0.0) || !(qU < INFINITY) || !(qV < INFINITY)) return false;
   bool use_u = qU > qV;
@@ -1544,12 +1412,16 @@ bool make_frame(const Tet& U, const Tet& V, Frame& fr, bool other_reference = fa
   use_u = use_u != other_reference;
   fr.swapped = use_u;
   const Tet* const both[2] = {&U, &V};  // indexed, not branched on: the choice is data
-  const double dets[2] = {detU, detV};
+  const double dets[2] = {cu.det6, cv.det6};
   fr.sub = both[use_u];
   fr.ref = both[!use_u];
   fr.det6 = dets[!use_u];
-  const BarycentricMap bary(*fr.ref, fr.det6);
-  for (int i = 0; i < 4; ++i) bary((*fr.sub)[i], fr.C[i]);
+  if (use_u && map_u) {
+    for (int i = 0; i < 4; ++i) (*map_u)((*fr.sub)[i], fr.C[i]);
+  } else {
+    const BarycentricMap bary(*fr.ref, fr.det6);
+    for (int i = 0; i < 4; ++i) bary((*fr.sub)[i], fr.C[i]);
+  }
   // The sum of 0 * coordinate stays 0 unless a coordinate is infinite or NaN (in any order).
 #if TETIA_KERNEL_SSE2
   const __m128d z = _mm_setzero_pd();
@@ -1563,6 +1435,15 @@ bool make_frame(const Tet& U, const Tet& V, Frame& fr, bool other_reference = fa
     for (int p = 0; p < 4; ++p) probe += fr.C[i][p] * 0.0;
   return probe == 0.0;
 #endif
+}
+
+// Picks the reference (the better-conditioned tetrahedron; ties broken by comparing the
+// coordinates, so that (U, V) and (V, U) always choose the same one) and computes X.
+// Returns false for flat or non-finite input: the intersection is then empty.
+bool make_frame(const Tet& U, const Tet& V, Frame& fr, bool other_reference = false) {
+  Conditioning cu, cv;
+  shape_qualities(U, V, cu.quality, cu.det6, cv.quality, cv.det6);
+  return frame_from(U, cu, nullptr, V, cv, fr, other_reference);
 }
 
 // Runs the kernel on a prepared frame. Returns false if the labels do not close up into a
@@ -1637,9 +1518,10 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
 // relations accept but that no polytope realizes; the labels then do not close up. The other
 // tetrahedron is then taken as the reference, which rounds differently and in the tests has
 // always given a closed polytope. Only if that fails too is the result empty (and counted).
-template <bool kMoments, bool kFull>
-bool solve(const Tet& U, const Tet& V, Frame& fr, KernelResult& res, IntersectionStats* stats) {
-  if (!make_frame(U, V, fr)) {
+// make_frame(fr, other_reference) prepares the frame (see make_frame).
+template <bool kMoments, bool kFull, class MakeFrame>
+bool solve_with(const MakeFrame& make_frame, Frame& fr, KernelResult& res, IntersectionStats* stats) {
+  if (!make_frame(fr, false)) {
     res.num_corners = res.num_facets = 0;
     res.ref_volume = 0.0;
     return false;
@@ -1648,10 +1530,16 @@ bool solve(const Tet& U, const Tet& V, Frame& fr, KernelResult& res, Intersectio
   bool ok = run_kernel<kMoments, kFull>(fr.C, res, stats);
   if (!ok) {
     if (stats) ++stats->retries;
-    ok = make_frame(U, V, fr, true) && run_kernel<kMoments, kFull>(fr.C, res, stats);
+    ok = make_frame(fr, true) && run_kernel<kMoments, kFull>(fr.C, res, stats);
   }
   if (stats && (!ok || res.contradiction)) ++stats->inconsistencies;
   return ok;
+}
+
+template <bool kMoments, bool kFull>
+bool solve(const Tet& U, const Tet& V, Frame& fr, KernelResult& res, IntersectionStats* stats) {
+  return solve_with<kMoments, kFull>([&](Frame& f, bool other) { return make_frame(U, V, f, other); }, fr, res,
+                                     stats);
 }
 
 Moments original_moments(const Frame& fr, const KernelResult& res) {
@@ -1666,6 +1554,22 @@ Moments original_moments(const Frame& fr, const KernelResult& res) {
 }
 
 }  // namespace
+
+Conditioning conditioning(const Tet& t) {
+  Conditioning c, unused;  // both lanes compute t: lane for lane what a pair computes
+  shape_qualities(t, t, c.quality, c.det6, unused.quality, unused.det6);
+  return c;
+}
+
+OneToMany::OneToMany(const Tet& s) : s_(s), cs_(conditioning(s)), map_(s, cs_.det6) {}
+
+Moments OneToMany::moments(const Tet& t, const Conditioning& ct) const {
+  Frame fr;
+  KernelResult res;
+  const auto make = [&](Frame& f, bool other) { return frame_from(s_, cs_, &map_, t, ct, f, other); };
+  if (!solve_with<true, false>(make, fr, res, nullptr)) return {};
+  return original_moments(fr, res);
+}
 
 void trace_kernel(const double (&C)[4][4], KernelTrace& t, IntersectionStats* stats) {
   Kernel<true, true> k(C, stats);

@@ -17,7 +17,8 @@
 //    once in each direction), outward orientation (fan volumes from an arbitrary point add up
 //    to +volume), tetrahedra() volumes add up to volume(), centroid inside the corners'
 //    bounding box, intersection_volume / intersection_moments and intersect() without
-//    statistics give the same bits as intersect() with them, volume never negative or NaN,
+//    statistics, and the supermesh's one-to-many path (src/one_to_many.hpp), give the same bits
+//    as intersect() with them, volume never negative or NaN,
 //    stats.inconsistencies == 0.
 //
 // "Relative" means relative to min(|U|, |V|) (max for slivers and tiny-in-big), as in
@@ -33,6 +34,7 @@
 #include <map>
 #include <string>
 
+#include "../src/one_to_many.hpp"  // the supermesh's one-to-many path (internal)
 #include "support/generators.hpp"
 #include "tetia/exact.hpp"
 #include "tetia/tet_intersection.hpp"
@@ -359,6 +361,10 @@ void run_family(const char* name) {
                  " / intersection_moments " + fmt(mo.volume) + " differ from intersect() " + fmt(v));
       if (const std::string d = same_polyhedron(intersect(A, B), P); !d.empty())
         what += (what.empty() ? "" : "; ") + ("intersect() without statistics differs: " + d);
+      // The supermesh's one-to-many path (A prepared once) gives the same bits.
+      const Moments om = detail::OneToMany(A).moments(B, detail::conditioning(B));
+      if (om.volume != v || !(om.first == P.moments().first))
+        what += (what.empty() ? "" : "; ") + ("OneToMany::moments " + fmt(om.volume) + " differs from intersect()");
       if (!what.empty())
         fails.add(c, i, std::string(role) + ": " + what, A, B, st,
                   "volume " + fmt(v) + ", corners " + std::to_string(P.num_corners()) +

@@ -1,7 +1,7 @@
 // tests/support/supermesh_checks.hpp -- the checks test_supermesh.cpp (tetrahedra) and
 // test_supermesh2d.cpp (triangles) share: brute force over all cell pairs with the exact GMP
-// reference, and "the supermesh finds exactly those pairs, the same with both searches and with
-// one or two threads, bit for bit". One template over the mesh type; MeshTraits says what is
+// reference, and "the supermesh finds exactly those pairs, each with the kernel's moments of its
+// two cells, the same with both searches and with one or two threads, bit for bit". One template over the mesh type; MeshTraits says what is
 // spelled differently (volume or area, Vec3 or Vec2).
 #pragma once
 
@@ -20,6 +20,8 @@
 #include "tetia/exact.hpp"
 #include "tetia/mesh.hpp"
 #include "tetia/supermesh.hpp"
+#include "tetia/tet_intersection.hpp"
+#include "tetia/tri_intersection.hpp"
 
 namespace tetia::testsupport {
 
@@ -38,6 +40,10 @@ struct MeshTraits<TetMesh> {
   static double total(const Result& r) { return r.intersection_volume(); }
   static mpq_class exact(const Tet& a, const Tet& b) { return exact::intersection_volume(a, b); }
   static double coord(const Vec3& p, int k) { return p[k]; }
+  static std::pair<double, Vec3> kernel(const Tet& a, const Tet& b) {
+    const Moments m = intersection_moments(a, b);
+    return {m.volume, m.first};
+  }
 };
 
 template <>
@@ -52,6 +58,10 @@ struct MeshTraits<TriMesh> {
   static double total(const Result& r) { return r.intersection_area(); }
   static mpq_class exact(const Triangle& a, const Triangle& b) { return exact::intersection_area(a, b); }
   static double coord(const Vec2& p, int k) { return k == 0 ? p.x : p.y; }
+  static std::pair<double, Vec2> kernel(const Triangle& a, const Triangle& b) {
+    const Moments2 m = intersection_moments(a, b);
+    return {m.area, m.first};
+  }
 };
 
 // The kernel resolves intersections above 1e-14 times the larger cell's measure (as in the
@@ -178,6 +188,15 @@ typename MeshTraits<Mesh>::Result check_against_brute_force(const Mesh& src, con
   }
   EXPECT_TRUE(missing.empty()) << describe(missing, "missing (target, source)");
   EXPECT_TRUE(extra.empty()) << describe(extra, (std::string("found with exact ") + Tr::measure_word + " 0 (target, source)").c_str());
+  // Each piece is the kernel's intersection_moments of its two cells, bit for bit (the
+  // supermesh prepares each source cell once; that must not change the numbers).
+  std::size_t not_the_kernel = 0;
+  for (const auto& pc : front1.pieces) {
+    const auto [m, first] = Tr::kernel(src.cell(static_cast<std::size_t>(pc.source)), tgt.cell(static_cast<std::size_t>(pc.target)));
+    const double got_m = Tr::measure(pc);
+    not_the_kernel += std::memcmp(&m, &got_m, sizeof(double)) != 0 || std::memcmp(&first, &pc.first, sizeof(first)) != 0;
+  }
+  EXPECT_EQ(not_the_kernel, 0u) << "pieces whose moments differ from intersection_moments of their cells";
   EXPECT_TRUE(bitwise_equal(front1.pieces, front2.pieces)) << "1 thread vs 2 threads";
   EXPECT_TRUE(bitwise_equal(front1.pieces, rtree2.pieces)) << "front vs rtree";
   EXPECT_EQ(front1.candidates, front2.candidates);

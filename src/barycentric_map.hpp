@@ -1,0 +1,154 @@
+// src/barycentric_map.hpp -- the change of coordinates of Section 2 (internal to the library).
+//
+// BarycentricMap(r, det6) maps points to barycentric coordinates in tetrahedron r, with the
+// exact snapping described below. Used by the kernel (src/tet_intersection.cpp) for the
+// reference tetrahedron, and kept by callers that intersect one tetrahedron with many
+// (src/one_to_many.hpp), so that a tetrahedron's map is built once. Inline, allocation-free.
+#pragma once
+
+#include <bit>
+#include <cmath>
+
+#include "tetia/geometry.hpp"
+
+// SSE2 is part of x86-64; elsewhere the same computations run as scalar loops.
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#define TETIA_KERNEL_SSE2 1
+#else
+#define TETIA_KERNEL_SSE2 0
+#endif
+
+namespace tetia::detail {
+
+// The change of coordinates of Section 2, eq. (1), one face at a time: coordinate k of a point
+// u is the signed distance of u from the face opposite vertex k, (u - a_k) . n_k, divided by
+// that of vertex k. Each face is translated to its own first vertex a_k before anything else,
+// as Section 2 advises, so the normals n_k are accurate for the face's own size and a point far
+// away (a big tetrahedron mapped into a tiny reference) keeps full relative accuracy; forming
+// the determinants around u instead would cancel catastrophically there. A point equal to a
+// vertex of the reference gets that vertex's coordinates exactly (1 and three exact zeros):
+// shared vertices, shared faces and identical tetrahedra, the normal case on conforming meshes,
+// are then decided exactly rather than by rounding.
+//
+// A coordinate whose computed value is within the rounding error bound of the determinant
+// (Shewchuk's bound for orient3d, (7 + 56 eps) eps times the permanent, with this same
+// evaluation order) has no reliable sign; it is set to exactly 0, which places the point on
+// the face. The result is then the exact answer for an input perturbed by less than its own
+// rounding, in the spirit of Corollary 2, and two tetrahedra that touch across a face up to an
+// ulp give exactly zero instead of a slab of rounding-sized volume.
+struct BarycentricMap {
+  // The three vertices of face k (the face opposite vertex k), ascending.
+  static constexpr int kMapFaceVerts[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+
+  // One entry per face k (opposite vertex k), as arrays over k.
+  alignas(16) double vx[4], vy[4], vz[4];  // the vertices, for the exact snapping
+  alignas(16) double ax[4], ay[4], az[4];  // anchor a_k: the face's first vertex
+  alignas(16) double nx[4], ny[4], nz[4];  // normal n_k
+  alignas(16) double px[4], py[4], pz[4];  // the terms of the normal in absolute value, for the permanent
+  alignas(16) double scale[4];  // +-1 / det6 with the sign that makes coordinate k of vertex k positive
+
+  static constexpr double kErrBound = (7.0 + 56.0 * 0x1p-53) * 0x1p-53;
+
+  BarycentricMap(const Tet& r, double det6) {
+    const double inv = 1.0 / det6;
+#if TETIA_KERNEL_SSE2
+    // The loop below for faces (0, 1) and (2, 3) at once: first vertices (r1, r0), (r0, r0),
+    // second (r2, r2), (r1, r1), third (r3, r3), (r3, r2) (kMapFaceVerts).
+    // (x, y) of each vertex as one load; pairs of coordinates by unpacking.
+    const __m128d L[4] = {_mm_loadu_pd(&r[0].x), _mm_loadu_pd(&r[1].x), _mm_loadu_pd(&r[2].x), _mm_loadu_pd(&r[3].x)};
+    const auto zz = [&](int lo, int hi) { return _mm_loadh_pd(_mm_load_sd(&r[lo].z), &r[hi].z); };
+    for (int h = 0; h < 2; ++h) {
+      const int a0 = h == 0 ? 1 : 0, b0 = h == 0 ? 2 : 1, c0 = 3, c1 = h == 0 ? 3 : 2;
+      const __m128d f0x = _mm_unpacklo_pd(L[a0], L[0]), f0y = _mm_unpackhi_pd(L[a0], L[0]), f0z = zz(a0, 0);
+      const __m128d f1x = _mm_unpacklo_pd(L[b0], L[b0]), f1y = _mm_unpackhi_pd(L[b0], L[b0]), f1z = zz(b0, b0);
+      const __m128d f2x = _mm_unpacklo_pd(L[c0], L[c1]), f2y = _mm_unpackhi_pd(L[c0], L[c1]), f2z = zz(c0, c1);
+      const __m128d d1x = _mm_sub_pd(f1x, f0x), d1y = _mm_sub_pd(f1y, f0y), d1z = _mm_sub_pd(f1z, f0z);
+      const __m128d d2x = _mm_sub_pd(f2x, f0x), d2y = _mm_sub_pd(f2y, f0y), d2z = _mm_sub_pd(f2z, f0z);
+      const __m128d yz = _mm_mul_pd(d1y, d2z), zy = _mm_mul_pd(d1z, d2y), zx = _mm_mul_pd(d1z, d2x),
+                    xz = _mm_mul_pd(d1x, d2z), xy = _mm_mul_pd(d1x, d2y), yx = _mm_mul_pd(d1y, d2x);
+      const __m128d sign = _mm_set1_pd(-0.0);
+      const int k = 2 * h;
+      _mm_store_pd(ax + k, f0x);
+      _mm_store_pd(ay + k, f0y);
+      _mm_store_pd(az + k, f0z);
+      _mm_store_pd(nx + k, _mm_sub_pd(yz, zy));
+      _mm_store_pd(ny + k, _mm_sub_pd(zx, xz));
+      _mm_store_pd(nz + k, _mm_sub_pd(xy, yx));
+      _mm_store_pd(px + k, _mm_add_pd(_mm_andnot_pd(sign, yz), _mm_andnot_pd(sign, zy)));
+      _mm_store_pd(py + k, _mm_add_pd(_mm_andnot_pd(sign, zx), _mm_andnot_pd(sign, xz)));
+      _mm_store_pd(pz + k, _mm_add_pd(_mm_andnot_pd(sign, xy), _mm_andnot_pd(sign, yx)));
+    }
+    _mm_store_pd(vx, _mm_unpacklo_pd(L[0], L[1]));
+    _mm_store_pd(vx + 2, _mm_unpacklo_pd(L[2], L[3]));
+    _mm_store_pd(vy, _mm_unpackhi_pd(L[0], L[1]));
+    _mm_store_pd(vy + 2, _mm_unpackhi_pd(L[2], L[3]));
+    _mm_store_pd(vz, zz(0, 1));
+    _mm_store_pd(vz + 2, zz(2, 3));
+    const __m128d sc = _mm_set_pd(inv, -inv);  // scale[k] = (k % 2 == 0) ? -inv : inv
+    _mm_store_pd(scale, sc);
+    _mm_store_pd(scale + 2, sc);
+#else
+    for (int k = 0; k < 4; ++k) {
+      vx[k] = r[k].x, vy[k] = r[k].y, vz[k] = r[k].z;
+      const Vec3 f0 = r[kMapFaceVerts[k][0]];
+      const Vec3 d1 = r[kMapFaceVerts[k][1]] - f0, d2 = r[kMapFaceVerts[k][2]] - f0;
+      ax[k] = f0.x, ay[k] = f0.y, az[k] = f0.z;
+      const Vec3 n = cross(d1, d2);
+      nx[k] = n.x, ny[k] = n.y, nz[k] = n.z;
+      px[k] = std::abs(d1.y * d2.z) + std::abs(d1.z * d2.y);
+      py[k] = std::abs(d1.z * d2.x) + std::abs(d1.x * d2.z);
+      pz[k] = std::abs(d1.x * d2.y) + std::abs(d1.y * d2.x);
+      // (r_k - f0) . n_k = orient3d(f0, f1, f2, r_k) = (-1)^(k+1) det6.
+      scale[k] = (k % 2 == 0) ? -inv : inv;
+    }
+#endif
+  }
+
+  // Coordinate k: with w = u - a_k, det = w . n_k (evaluated as (w.x n.x + w.y n.y) + w.z n.z)
+  // and the permanent |w.x| p.x + |w.y| p.y + |w.z| p.z, det * scale_k if |det| exceeds
+  // kErrBound times the permanent, else exactly 0. Then u equal to vertex k (the last such k)
+  // gets the unit coordinates of that vertex.
+  void operator()(Vec3 u, double (&out)[4]) const {
+    unsigned same = 0;  // bit k: u == vertex k
+#if TETIA_KERNEL_SSE2
+    const __m128d ux = _mm_set1_pd(u.x), uy = _mm_set1_pd(u.y), uz = _mm_set1_pd(u.z);
+    const __m128d sign = _mm_set1_pd(-0.0), bound = _mm_set1_pd(kErrBound);
+    for (int h = 0; h < 4; h += 2) {
+      const __m128d wx = _mm_sub_pd(ux, _mm_load_pd(ax + h)), wy = _mm_sub_pd(uy, _mm_load_pd(ay + h)),
+                    wz = _mm_sub_pd(uz, _mm_load_pd(az + h));
+      const __m128d det = _mm_add_pd(_mm_add_pd(_mm_mul_pd(wx, _mm_load_pd(nx + h)), _mm_mul_pd(wy, _mm_load_pd(ny + h))),
+                                     _mm_mul_pd(wz, _mm_load_pd(nz + h)));
+      const __m128d perm =
+          _mm_add_pd(_mm_add_pd(_mm_mul_pd(_mm_andnot_pd(sign, wx), _mm_load_pd(px + h)),
+                                _mm_mul_pd(_mm_andnot_pd(sign, wy), _mm_load_pd(py + h))),
+                     _mm_mul_pd(_mm_andnot_pd(sign, wz), _mm_load_pd(pz + h)));
+      const __m128d keep = _mm_cmpgt_pd(_mm_andnot_pd(sign, det), _mm_mul_pd(bound, perm));
+      _mm_storeu_pd(out + h, _mm_and_pd(keep, _mm_mul_pd(det, _mm_load_pd(scale + h))));
+      same |= unsigned(_mm_movemask_pd(_mm_cmpeq_pd(ux, _mm_load_pd(vx + h)))) << h;  // x only, first
+    }
+    if (same) {  // some vertex has u's x: compare the whole points
+      same = 0;
+      for (int h = 0; h < 4; h += 2) {
+        const __m128d eq = _mm_and_pd(_mm_and_pd(_mm_cmpeq_pd(ux, _mm_load_pd(vx + h)), _mm_cmpeq_pd(uy, _mm_load_pd(vy + h))),
+                                      _mm_cmpeq_pd(uz, _mm_load_pd(vz + h)));
+        same |= unsigned(_mm_movemask_pd(eq)) << h;
+      }
+    }
+#else
+    for (int k = 0; k < 4; ++k) {
+      const double wx = u.x - ax[k], wy = u.y - ay[k], wz = u.z - az[k];
+      const double det = wx * nx[k] + wy * ny[k] + wz * nz[k];
+      const double permanent = std::abs(wx) * px[k] + std::abs(wy) * py[k] + std::abs(wz) * pz[k];
+      out[k] = std::abs(det) > kErrBound * permanent ? det * scale[k] : 0.0;
+      same |= unsigned(u.x == vx[k] && u.y == vy[k] && u.z == vz[k]) << k;
+    }
+#endif
+    if (same) {
+      const int k = std::bit_width(same) - 1;
+      for (int q = 0; q < 4; ++q) out[q] = q == k ? 1.0 : 0.0;
+    }
+  }
+};
+
+}  // namespace tetia::detail

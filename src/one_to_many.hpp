@@ -1,0 +1,41 @@
+// src/one_to_many.hpp -- the moments of the intersection of one tetrahedron with many
+// (internal to the library; the supermesh uses it for each source cell).
+//
+// Contract: OneToMany(S).moments(T, conditioning(T)) is intersection_moments(S, T), bit for bit.
+// What depends on S alone (its conditioning, and its barycentric map, used whenever S is the
+// better-conditioned of the pair and so the reference) is computed once, by the constructor;
+// what depends on T alone, by conditioning(T), which the caller may compute once per T. The
+// kernel then only maps the other tetrahedron (and builds T's map when T is the reference).
+// Allocation-free, like the kernel.
+#pragma once
+
+#include "barycentric_map.hpp"
+#include "tetia/geometry.hpp"
+#include "tetia/polyhedron.hpp"
+
+namespace tetia::detail {
+
+/// What the kernel uses to choose the reference tetrahedron (src/tet_intersection.cpp,
+/// make_frame): the shape quality |det| / (sum of squared edge lengths)^(3/2), and det6, six
+/// times the signed volume.
+struct Conditioning {
+  double quality = 0.0;
+  double det6 = 0.0;
+};
+
+/// The conditioning of t, computed as the kernel computes it for each pair.
+Conditioning conditioning(const Tet& t);
+
+class OneToMany {
+ public:
+  explicit OneToMany(const Tet& s);
+  /// intersection_moments(s, t), given ct == conditioning(t).
+  Moments moments(const Tet& t, const Conditioning& ct) const;
+
+ private:
+  Tet s_;
+  Conditioning cs_;
+  BarycentricMap map_;  // s's map (a flat or non-finite s is never a reference: not used then)
+};
+
+}  // namespace tetia::detail
