@@ -29,8 +29,12 @@ Conditioning conditioning(const Tet& t);
 class OneToMany {
  public:
   explicit OneToMany(const Tet& s);
-  /// intersection_moments(s, t), given ct == conditioning(t).
-  Moments moments(const Tet& t, const Conditioning& ct) const;
+  /// intersection_moments(s, t), given ct == conditioning(t). When t was the reference (its
+  /// map gave s's barycentric coordinates), *t_faces_crossed gets bit k unless every vertex of
+  /// s has a strictly positive coordinate k, a certified sign (BarycentricMap): all of s lies
+  /// strictly on t's side of the plane of t's face k. Otherwise it gets kUnknown.
+  static constexpr unsigned kUnknown = 0x10;
+  Moments moments(const Tet& t, const Conditioning& ct, unsigned* t_faces_crossed = nullptr) const;
 
  private:
   Tet s_;

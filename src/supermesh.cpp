@@ -379,6 +379,7 @@ class Worker {
   // The kernel on (source cell, target cell), appending the piece if its volume is positive.
   bool test(std::int32_t s, std::int32_t t) {
     mark_[static_cast<std::size_t>(t)] = stamp_ + 1;
+    crossed_ = detail::OneToMany::kUnknown;
     if (!overlap_open(sbox_, sh_.target_box[static_cast<std::size_t>(t)])) return false;
     ++candidates_;
     T_ = sh_.target.cell(static_cast<std::size_t>(t));
@@ -399,7 +400,7 @@ class Worker {
       }
     } else {
       // In 3D with what depends on s or t alone computed once (bit for bit the same moments).
-      if constexpr (Dm::d == 3) m = one_.moments(T_, sh_.target_conditioning[static_cast<std::size_t>(t)]);
+      if constexpr (Dm::d == 3) m = one_.moments(T_, sh_.target_conditioning[static_cast<std::size_t>(t)], &crossed_);
       else m = intersection_moments(S_, T_);
       if (!(Dm::measure(m) > floor)) return false;
     }
@@ -417,7 +418,8 @@ class Worker {
     while (head_ < cand_.size() && !risky_hit_) {
       const std::int32_t t = cand_[head_++];
       if (!test(s, t)) continue;
-      const unsigned crossed = faces_crossed(T_, S_);
+      // The kernel's own certified signs when T was its reference (see OneToMany::moments).
+      const unsigned crossed = crossed_ != detail::OneToMany::kUnknown ? crossed_ : faces_crossed(T_, S_);
       const auto& nb = sh_.target.neighbors[static_cast<std::size_t>(t)];
       for (std::size_t k = 0; k < nb.size(); ++k)
         if (crossed >> k & 1u) enqueue(nb[k]);
@@ -508,11 +510,14 @@ class Worker {
   Box<Dm::d> sbox_{};
   double svol_ = 0.0;
   Shape shape_;
+  unsigned crossed_ = detail::OneToMany::kUnknown;  // faces of T_ that S_ crosses, if the kernel knew
   // 3D: the source cell prepared for intersection_moments with many targets.
   struct OneToManyHolder {
     std::optional<detail::OneToMany> v;
     void emplace(const Tet& s) { v.emplace(s); }
-    Moments moments(const Tet& t, const detail::Conditioning& c) const { return v->moments(t, c); }
+    Moments moments(const Tet& t, const detail::Conditioning& c, unsigned* crossed) const {
+      return v->moments(t, c, crossed);
+    }
   };
   std::conditional_t<Dm::d == 3, OneToManyHolder, std::monostate> one_;
 };

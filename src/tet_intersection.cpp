@@ -1563,11 +1563,21 @@ Conditioning conditioning(const Tet& t) {
 
 OneToMany::OneToMany(const Tet& s) : s_(s), cs_(conditioning(s)), map_(s, cs_.det6) {}
 
-Moments OneToMany::moments(const Tet& t, const Conditioning& ct) const {
+Moments OneToMany::moments(const Tet& t, const Conditioning& ct, unsigned* t_faces_crossed) const {
   Frame fr;
   KernelResult res;
   const auto make = [&](Frame& f, bool other) { return frame_from(s_, cs_, &map_, t, ct, f, other); };
-  if (!solve_with<true, false>(make, fr, res, nullptr)) return {};
+  const bool ok = solve_with<true, false>(make, fr, res, nullptr);
+  if (t_faces_crossed) {
+    *t_faces_crossed = kUnknown;
+    if (ok && !fr.swapped) {  // fr.C holds s's vertices in t's coordinates
+      unsigned inside = 0xFu;
+      for (int i = 0; i < 4; ++i)
+        for (int k = 0; k < 4; ++k) inside &= ~(unsigned(!(fr.C[i][k] > 0.0)) << k);
+      *t_faces_crossed = ~inside & 0xFu;
+    }
+  }
+  if (!ok) return {};
   return original_moments(fr, res);
 }
 
