@@ -29,12 +29,18 @@ Conditioning conditioning(const Tet& t);
 class OneToMany {
  public:
   explicit OneToMany(const Tet& s);
-  /// intersection_moments(s, t), given ct == conditioning(t). When t was the reference (its
-  /// map gave s's barycentric coordinates), *t_faces_crossed gets bit k unless every vertex of
-  /// s has a strictly positive coordinate k, a certified sign (BarycentricMap): all of s lies
-  /// strictly on t's side of the plane of t's face k. Otherwise it gets kUnknown.
-  static constexpr unsigned kUnknown = 0x10;
-  Moments moments(const Tet& t, const Conditioning& ct, unsigned* t_faces_crossed = nullptr) const;
+  /// intersection_moments(s, t), given ct == conditioning(t).
+  ///
+  /// With t_faces: which faces of t s may meet, from the signs of the barycentric coordinates
+  /// the kernel computed (certified: BarycentricMap's signs are exact where not zero). Bit k is
+  /// cleared when s certainly does not meet t's face k (the triangle): if t was the reference
+  /// (s's vertices in t's coordinates), when every vertex of s has coordinate k > 0 (s strictly
+  /// on t's side of the face's plane); if s was, when the face's three vertices all have some
+  /// coordinate p < 0 (strictly outside s's face p). kPlanesTested is set in the first case,
+  /// where the plane test is complete; in the second the caller may add its own plane test.
+  /// t_faces is 0xF (nothing known) for flat or non-finite input.
+  static constexpr unsigned kPlanesTested = 0x10;
+  Moments moments(const Tet& t, const Conditioning& ct, unsigned* t_faces = nullptr) const;
 
  private:
   Tet s_;

@@ -15,10 +15,13 @@
 //
 //   1. Seeds: the targets of s's BFS parent (processed, same chunk), tried one at a time; each
 //      one found positive starts a flood fill: a target t positive with s queues its face
-//      neighbours across the faces of t that s crosses (a neighbour across a face whose plane
-//      has all of s strictly on t's side, certified with orient3d's error bound, meets s with
-//      zero volume); a target tested zero queues nothing. Seeding stops once s is covered (the
-//      volumes found add up to |s| to 1e-12) or a risky target is found.
+//      neighbours across the faces of t that s may meet. Not across a face whose plane has all
+//      of s strictly on t's side (certified with orient3d's error bound: the neighbour meets s
+//      with zero volume), nor, in 3D, across a face whose three vertices lie strictly outside
+//      one face of s (certified signs of the kernel's coordinates, OneToMany::moments: no path
+//      inside s crosses that face, see below); a target tested zero queues nothing. Seeding
+//      stops once s is covered (the volumes found add up to |s| to 1e-12) or a risky target is
+//      found.
 //   2. Not covered yet: the targets of every processed neighbour of s and their neighbours
 //      (this crosses zero-volume contacts: for identical or face-sharing meshes the parent's
 //      targets only touch s, and it is their neighbours that intersect it), flood again.
@@ -33,7 +36,8 @@
 // with the interior of the target domain, minus the risky faces. Each piece s n t of positive
 // volume has its interior in O. Inside one connected component K of O two pieces are linked by
 // a path avoiding target edges (removing segments does not disconnect an open set in R^3); the
-// path crosses target faces at interior points of s, so s crosses those faces' planes, and each
+// path crosses target faces at interior points of s, so s meets those faces and crosses their
+// planes, and each
 // such face is shared by two targets that both meet s with positive volume: the flood reaches
 // every piece of K from any one of them. If s is not at risk, the flood found a component K0.
 // If K0 were not dense in s, its boundary inside s would separate the open convex set int(s),
@@ -379,7 +383,7 @@ class Worker {
   // The kernel on (source cell, target cell), appending the piece if its volume is positive.
   bool test(std::int32_t s, std::int32_t t) {
     mark_[static_cast<std::size_t>(t)] = stamp_ + 1;
-    crossed_ = detail::OneToMany::kUnknown;
+    crossed_ = 0xFu;
     if (!overlap_open(sbox_, sh_.target_box[static_cast<std::size_t>(t)])) return false;
     ++candidates_;
     T_ = sh_.target.cell(static_cast<std::size_t>(t));
@@ -418,8 +422,10 @@ class Worker {
     while (head_ < cand_.size() && !risky_hit_) {
       const std::int32_t t = cand_[head_++];
       if (!test(s, t)) continue;
-      // The kernel's own certified signs when T was its reference (see OneToMany::moments).
-      const unsigned crossed = crossed_ != detail::OneToMany::kUnknown ? crossed_ : faces_crossed(T_, S_);
+      // The kernel's own certified signs (see OneToMany::moments), with the plane test where
+      // they do not include it.
+      const unsigned crossed = crossed_ & detail::OneToMany::kPlanesTested ? crossed_ & 0xFu
+                                                                            : crossed_ & faces_crossed(T_, S_);
       const auto& nb = sh_.target.neighbors[static_cast<std::size_t>(t)];
       for (std::size_t k = 0; k < nb.size(); ++k)
         if (crossed >> k & 1u) enqueue(nb[k]);
@@ -510,7 +516,7 @@ class Worker {
   Box<Dm::d> sbox_{};
   double svol_ = 0.0;
   Shape shape_;
-  unsigned crossed_ = detail::OneToMany::kUnknown;  // faces of T_ that S_ crosses, if the kernel knew
+  unsigned crossed_ = 0xFu;  // faces of T_ that S_ may meet, as the kernel knew (OneToMany::moments)
   // 3D: the source cell prepared for intersection_moments with many targets.
   struct OneToManyHolder {
     std::optional<detail::OneToMany> v;

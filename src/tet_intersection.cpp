@@ -1563,18 +1563,28 @@ Conditioning conditioning(const Tet& t) {
 
 OneToMany::OneToMany(const Tet& s) : s_(s), cs_(conditioning(s)), map_(s, cs_.det6) {}
 
-Moments OneToMany::moments(const Tet& t, const Conditioning& ct, unsigned* t_faces_crossed) const {
+Moments OneToMany::moments(const Tet& t, const Conditioning& ct, unsigned* t_faces) const {
   Frame fr;
   KernelResult res;
   const auto make = [&](Frame& f, bool other) { return frame_from(s_, cs_, &map_, t, ct, f, other); };
   const bool ok = solve_with<true, false>(make, fr, res, nullptr);
-  if (t_faces_crossed) {
-    *t_faces_crossed = kUnknown;
+  if (t_faces) {
+    *t_faces = 0xFu;
     if (ok && !fr.swapped) {  // fr.C holds s's vertices in t's coordinates
       unsigned inside = 0xFu;
       for (int i = 0; i < 4; ++i)
         for (int k = 0; k < 4; ++k) inside &= ~(unsigned(!(fr.C[i][k] > 0.0)) << k);
-      *t_faces_crossed = ~inside & 0xFu;
+      *t_faces = (~inside & 0xFu) | kPlanesTested;
+    } else if (ok) {  // fr.C holds t's vertices in s's coordinates
+      unsigned negative[4];  // bit p: vertex j of t has coordinate p < 0
+      for (int j = 0; j < 4; ++j) {
+        negative[j] = 0;
+        for (int p = 0; p < 4; ++p) negative[j] |= unsigned(fr.C[j][p] < 0.0) << p;
+      }
+      for (int k = 0; k < 4; ++k) {
+        const unsigned all = negative[(k + 1) & 3] & negative[(k + 2) & 3] & negative[(k + 3) & 3];
+        *t_faces &= ~(unsigned(all != 0) << k);
+      }
     }
   }
   if (!ok) return {};
