@@ -37,9 +37,8 @@
 // volume has its interior in O. Inside one connected component K of O two pieces are linked by
 // a path avoiding target edges (removing segments does not disconnect an open set in R^3); the
 // path crosses target faces at interior points of s, so s meets those faces and crosses their
-// planes, and each
-// such face is shared by two targets that both meet s with positive volume: the flood reaches
-// every piece of K from any one of them. If s is not at risk, the flood found a component K0.
+// planes, and each such face is shared by two targets that both meet s with positive volume:
+// the flood reaches every piece of K from any one of them. If s is not at risk, the flood found a component K0.
 // If K0 were not dense in s, its boundary inside s would separate the open convex set int(s),
 // so it would have positive area; it lies on risky faces, so a target of K0 would own a risky
 // face and s would be at risk. Hence K0 is dense in s, it is the only component (another one
