@@ -32,25 +32,25 @@
 //      against every target whose bounding box overlaps its own (R-tree query), which finds
 //      every positive pair by itself.
 //
-// Why this finds every pair (s, t) with vol(s n t) > 0. Let O be the interior of s intersected
-// with the interior of the target domain, minus the risky faces. Each piece s n t of positive
-// volume has its interior in O. Inside one connected component K of O two pieces are linked by
-// a path avoiding target edges (removing segments does not disconnect an open set in R^3); the
-// path crosses target faces at interior points of s, so s meets those faces and crosses their
-// planes, and each such face is shared by two targets that both meet s with positive volume:
-// the flood reaches every piece of K from any one of them. If s is not at risk, the flood found a component K0.
-// If K0 were not dense in s, its boundary inside s would separate the open convex set int(s),
-// so it would have positive area; it lies on risky faces, so a target of K0 would own a risky
-// face and s would be at risk. Hence K0 is dense in s, it is the only component (another one
-// would be an open set disjoint from a dense open set), and the flood found every positive
-// target. An at-risk cell is complete by the R-tree. The seeds only decide how often the R-tree
-// is needed (near the target boundary: O(n^(2/3)) cells for meshes of one domain), never what
-// is found; zero-volume contacts never stop the front (a flood that finds nothing falls back to
-// the R-tree). The argument is exact; the kernel decides positivity in floating point, and
-// below the resolution of doubles it can report zero for a sliver the argument walks through.
-// The coverage test catches that: a flood cut short leaves s visibly uncovered (the test found
-// such cases with 1e-12 offsets). Pieces below the resolution (1e-14 of the smaller cell) are
-// dropped in both searches, so front and R-tree return the same pieces.
+// Why this finds every pair (s, t) with vol(s n t) > 0. Let O be the interior of s intersected with
+// the interior of the target domain, minus the risky faces. Each piece s n t of positive volume has
+// its interior in O. Inside one connected component K of O two pieces are linked by a path avoiding
+// target edges (removing segments does not disconnect an open set in R^3); the path crosses target
+// faces at interior points of s, so s meets those faces and crosses their planes, and each such
+// face is shared by two targets that both meet s with positive volume: the flood reaches every
+// piece of K from any one of them. If s is not at risk, the flood found a component K0. If K0 were
+// not dense in s, its boundary inside s would separate the open convex set int(s), so it would have
+// positive area; it lies on risky faces, so a target of K0 would own a risky face and s would be at
+// risk. Hence K0 is dense in s, it is the only component (another one would be an open set disjoint
+// from a dense open set), and the flood found every positive target. An at-risk cell is complete by
+// the R-tree. The seeds only decide how often the R-tree is needed (near the target boundary:
+// O(n^(2/3)) cells for meshes of one domain), never what is found; zero-volume contacts never stop
+// the front (a flood that finds nothing falls back to the R-tree). The argument is exact; the
+// kernel decides positivity in floating point, and below the resolution of doubles it can report
+// zero for a sliver the argument walks through. The coverage test catches that: a flood cut short
+// leaves s visibly uncovered (the test found such cases with 1e-12 offsets). Pieces below the
+// resolution (1e-14 of the smaller cell) are dropped in both searches, so front and R-tree return
+// the same pieces.
 //
 // Threads: the chunks (their number depends on the mesh size only) each have their own front
 // and are handed to threads dynamically. Every pair is computed by one kernel call with the
