@@ -38,7 +38,8 @@ class OneToMany {
   /// on t's side of the face's plane); if s was, when the face's three vertices all have some
   /// coordinate p < 0 (strictly outside s's face p). kPlanesTested is set in the first case,
   /// where the plane test is complete; in the second the caller may add its own plane test.
-  /// t_faces is 0xF (nothing known) for flat or non-finite input.
+  /// t_faces is 0xF (nothing known) for flat or non-finite input, and when the reference's
+  /// quality is too low for the sign of its determinant, and so of its map, to be certain.
   static constexpr unsigned kPlanesTested = 0x10;
   Moments moments(const Tet& t, const Conditioning& ct, unsigned* t_faces = nullptr) const;
 

@@ -167,13 +167,32 @@ Box<detail::Dim<Mesh>::d> box_of(const typename detail::Dim<Mesh>::Cell& t) {
 template <int D>
 inline bool overlap_open(const Box<D>& a, const Box<D>& b) {
   bool r = true;
-  for (std::size_t k = 0; k < D; ++k) r = r && a.lo[k] < b.hi[k] && b.lo[k] < a.hi[k];
+  for (std::size_t k = 0; k < D; ++k) r &= (a.lo[k] < b.hi[k]) & (b.lo[k] < a.hi[k]);  // no branches
   return r;
 }
 
 // Bit k is set unless every vertex of S lies strictly on T's side of the plane of T's face k,
 // which is certified with Shewchuk's static error bound for orient3d; if so, the neighbour of
 // T across face k lies on the other side of that plane and meets S with zero volume.
+unsigned faces_crossed(const Tet& T, const Tet& S);
+
+// The same test through T's barycentric map (the kernel's change of coordinates, whose signs are
+// certified the same way, without branches), given T's conditioning: bit k is set unless every
+// vertex of S has coordinate k > 0. The map's signs are those of orient3d only when the sign of
+// T's det6 is certain (quality far above its rounding, as in OneToMany::moments); otherwise the
+// plain test decides.
+unsigned faces_crossed(const Tet& T, const detail::Conditioning& ct, const Tet& S) {
+  if (!(ct.quality > 1e-12)) return faces_crossed(T, S);
+  const detail::BarycentricMap map(T, ct.det6);
+  unsigned inside = 0xFu;
+  for (const Vec3& p : S) {
+    double c[4];
+    map(p, c);
+    for (int k = 0; k < 4; ++k) inside &= ~(unsigned(!(c[k] > 0.0)) << k);
+  }
+  return ~inside & 0xFu;
+}
+
 unsigned faces_crossed(const Tet& T, const Tet& S) {
   constexpr double kErrBound = 1e-15;  // > (7 + 56 eps) eps, Shewchuk's o3derrboundA
   unsigned mask = 0;
@@ -414,6 +433,12 @@ class Worker {
     return true;
   }
 
+  // faces_crossed(T_, S_) for target t (in 3D through its map).
+  unsigned plane_test(std::int32_t t) const {
+    if constexpr (Dm::d == 3) return faces_crossed(T_, sh_.target_conditioning[static_cast<std::size_t>(t)], S_);
+    else return faces_crossed(T_, S_);
+  }
+
   // Tests the queued candidates from cand_[head_] on; a positive one queues its neighbours
   // across the faces s crosses (the others lead to zero-volume neighbours). Stops early once a
   // risky target is found (the cell then goes to the R-tree anyway).
@@ -424,7 +449,7 @@ class Worker {
       // The kernel's own certified signs (see OneToMany::moments), with the plane test where
       // they do not include it.
       const unsigned crossed = crossed_ & detail::OneToMany::kPlanesTested ? crossed_ & 0xFu
-                                                                            : crossed_ & faces_crossed(T_, S_);
+                                                                            : crossed_ & plane_test(t);
       const auto& nb = sh_.target.neighbors[static_cast<std::size_t>(t)];
       for (std::size_t k = 0; k < nb.size(); ++k)
         if (crossed >> k & 1u) enqueue(nb[k]);
