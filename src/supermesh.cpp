@@ -32,25 +32,26 @@
 //      against every target whose bounding box overlaps its own (R-tree query), which finds
 //      every positive pair by itself.
 //
-// Why this finds every pair (s, t) with vol(s n t) > 0. Let O be the interior of s intersected with
-// the interior of the target domain, minus the risky faces. Each piece s n t of positive volume has
-// its interior in O. Inside one connected component K of O two pieces are linked by a path avoiding
-// target edges (removing segments does not disconnect an open set in R^3); the path crosses target
-// faces at interior points of s, so s meets those faces and crosses their planes, and each such
-// face is shared by two targets that both meet s with positive volume: the flood reaches every
-// piece of K from any one of them. If s is not at risk, the flood found a component K0. If K0 were
-// not dense in s, its boundary inside s would separate the open convex set int(s), so it would have
-// positive area; it lies on risky faces, so a target of K0 would own a risky face and s would be at
-// risk. Hence K0 is dense in s, it is the only component (another one would be an open set disjoint
-// from a dense open set), and the flood found every positive target. An at-risk cell is complete by
-// the R-tree. The seeds only decide how often the R-tree is needed (near the target boundary:
-// O(n^(2/3)) cells for meshes of one domain), never what is found; zero-volume contacts never stop
-// the front (a flood that finds nothing falls back to the R-tree). The argument is exact; the
-// kernel decides positivity in floating point, and below the resolution of doubles it can report
-// zero for a sliver the argument walks through. The coverage test catches that: a flood cut short
-// leaves s visibly uncovered (the test found such cases with 1e-12 offsets). Pieces below the
-// resolution (1e-14 of the smaller cell) are dropped in both searches, so front and R-tree return
-// the same pieces.
+// Why this finds every pair (s, t) with vol(s n t) > 0. Let O be the interior of s intersected
+// with the interior of the target domain, minus the risky faces. Each piece s n t of positive
+// volume has its interior in O. Inside one connected component K of O two pieces are linked by
+// a path avoiding target edges (removing segments does not disconnect an open set in R^3); the
+// path crosses target faces at interior points of s, so s meets those faces and crosses their
+// planes, and each such face is shared by two targets that both meet s with positive volume:
+// the flood reaches every piece of K from any one of them. If s is not at risk, the flood found
+// a component K0. If K0 were not dense in s, its boundary inside s would separate the open
+// convex set int(s), so it would have positive area; it lies on risky faces, so a target of K0
+// would own a risky face and s would be at risk. Hence K0 is dense in s, it is the only
+// component (another one would be an open set disjoint from a dense open set), and the flood
+// found every positive target. An at-risk cell is complete by the R-tree. The seeds only decide
+// how often the R-tree is needed (near the target boundary: O(n^(2/3)) cells for meshes of one
+// domain), never what is found; zero-volume contacts never stop the front (a flood that finds
+// nothing falls back to the R-tree). The argument is exact; the kernel decides positivity in
+// floating point, and below the resolution of doubles it can report zero for a sliver the
+// argument walks through. The coverage test catches that: a flood cut short leaves s visibly
+// uncovered (the test found such cases with 1e-12 offsets). Pieces below the resolution (1e-14
+// of the smaller cell) are dropped in both searches, so front and R-tree return the same
+// pieces.
 //
 // Threads: the chunks (their number depends on the mesh size only) each have their own front
 // and are handed to threads dynamically. Every pair is computed by one kernel call with the
@@ -440,8 +441,9 @@ class Worker {
   }
 
   // Tests the queued candidates from cand_[head_] on; a positive one queues its neighbours
-  // across the faces s crosses (the others lead to zero-volume neighbours). Stops early once a
-  // risky target is found (the cell then goes to the R-tree anyway).
+  // across the faces s may meet (the others lead to zero-volume neighbours, or no path inside s
+  // crosses them). Stops early once a risky target is found (the cell then goes to the R-tree
+  // anyway).
   void flood(std::int32_t s) {
     while (head_ < cand_.size() && !risky_hit_) {
       const std::int32_t t = cand_[head_++];
@@ -638,8 +640,8 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
   // queries). The order depends on the mesh only: results stay identical for any thread count.
   std::vector<std::int32_t> order, rank;
   morton_order(source, order, rank);
-  const Shared<Mesh> sh{source, target, tree, target_box, risky, target_conditioning, options.keep_polyhedra, options.keep_mixed_mass,
-                        state, parent, piece_begin, piece_count, order, rank};
+  const Shared<Mesh> sh{source, target, tree, target_box, risky, target_conditioning, options.keep_polyhedra,
+                        options.keep_mixed_mass, state, parent, piece_begin, piece_count, order, rank};
 
   // Chunks of consecutive positions in that order; their number depends on the mesh only.
   constexpr std::size_t kChunkCells = 4096;
