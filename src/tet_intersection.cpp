@@ -1011,9 +1011,10 @@ bool build_facets_walk(KernelResult& r) {
 // facet a the walk enters c from one of its two neighbours on a and leaves to the other: the
 // next corner is (xor of c's two neighbours on a) xor the previous one. The first step from
 // the start corner goes where the label walk goes (across the planes a and the label of start
-// that is neither a nor the first other one), so the cycles, their directions and the fan
-// volumes are the same, operation for operation. With kMoments the walk also computes what
-// reference_moments computes after the label walk (the same triangles in the same order).
+// that is neither a nor the first other one), so the cycles and their directions are the same;
+// without kCornerApex (below) so are the fan volumes, operation for operation, and with
+// kMoments the walk also computes what reference_moments computes after the label walk (the
+// same triangles in the same order).
 enum FacetMode { kFacetsOnly, kFacetsVolume, kFacetsMoments };
 template <bool kMoments>
 void reference_moments(KernelResult& r);
@@ -1029,7 +1030,7 @@ bool facets_by_label_walk(KernelResult& r) {
   }
 }
 
-//
+// build_facets' options.
 // kCornerApex: the fans are joined to corner 0 instead of the mean of the corners. Corner 0 lies
 // on the polytope, so every pyramid still has non-negative volume, and the three facets through
 // it contribute exactly nothing: they are walked without geometry, which saves about half the
