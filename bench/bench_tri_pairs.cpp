@@ -15,11 +15,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <random>
 #include <vector>
+
+#include "pairs_bench.hpp"
 
 #include "tetia/baselines.hpp"
 #include "tetia/tri_intersection.hpp"
@@ -47,48 +46,34 @@ std::vector<TriPair> make_pairs(std::size_t n) {
   return pairs;
 }
 
-std::vector<TriPair>& pairs() {
-  static std::vector<TriPair> p;
-  return p;
-}
+using tetia::bench::run_over_pairs;
 
-constexpr int kIterations = 3;  // each iteration is one pass over all pairs
-
-template <class F>
-void run_over_pairs(benchmark::State& state, F&& f) {
-  const std::vector<TriPair>& ps = pairs();
-  for (auto _ : state) {
-    double acc = 0.0;
-    for (const TriPair& p : ps) acc += f(p);
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(ps.size()));
-}
+constexpr int kIterations = tetia::bench::kPassesPerBenchmark;
 
 void BM_intersection_area(benchmark::State& state) {
-  run_over_pairs(state, [](const TriPair& p) { return tetia::intersection_area(p.A, p.B); });
+  run_over_pairs<TriPair>(state, [](const TriPair& p) { return tetia::intersection_area(p.A, p.B); });
 }
 
 void BM_intersect(benchmark::State& state) {
-  run_over_pairs(state, [](const TriPair& p) {
+  run_over_pairs<TriPair>(state, [](const TriPair& p) {
     const tetia::Polygon poly = tetia::intersect(p.A, p.B);
     return poly.area() + static_cast<double>(poly.num_corners());
   });
 }
 
 void BM_intersection_moments(benchmark::State& state) {
-  run_over_pairs(state, [](const TriPair& p) {
+  run_over_pairs<TriPair>(state, [](const TriPair& p) {
     const tetia::Moments2 m = tetia::intersection_moments(p.A, p.B);
     return m.area + m.first.x + m.first.y;
   });
 }
 
 void BM_clip_area(benchmark::State& state) {
-  run_over_pairs(state, [](const TriPair& p) { return tetia::baselines::clip_area(p.A, p.B); });
+  run_over_pairs<TriPair>(state, [](const TriPair& p) { return tetia::baselines::clip_area(p.A, p.B); });
 }
 
 void BM_pang_area(benchmark::State& state) {
-  run_over_pairs(state, [](const TriPair& p) { return tetia::baselines::pang_area(p.A, p.B); });
+  run_over_pairs<TriPair>(state, [](const TriPair& p) { return tetia::baselines::pang_area(p.A, p.B); });
 }
 
 BENCHMARK(BM_intersection_area)->Unit(benchmark::kMillisecond)->Iterations(kIterations);
@@ -101,67 +86,22 @@ BENCHMARK(BM_pang_area)->Unit(benchmark::kMillisecond)->Iterations(kIterations);
 // Returns false when intersection_area and clip_area disagree by more than 1e-9 relative in
 // total.
 bool check_agreement() {
-  const std::vector<TriPair>& ps = pairs();
-  double sum_area = 0.0, sum_intersect = 0.0, sum_clip = 0.0, sum_pang = 0.0;
-  double max_abs_diff = 0.0;
-  long nonempty = 0;
+  const std::vector<TriPair>& ps = tetia::bench::workload<TriPair>();
+  tetia::bench::Agreement a{"area", {"intersection_area", "intersect", "clip_area", "pang_area"},
+                            {0.0, 0.0, 0.0, 0.0}, 0.0, 0, ps.size(), kSeed};
   for (const TriPair& p : ps) {
-    const double a = tetia::intersection_area(p.A, p.B);
+    const double v = tetia::intersection_area(p.A, p.B);
     const double c = tetia::baselines::clip_area(p.A, p.B);
-    sum_area += a;
-    sum_intersect += tetia::intersect(p.A, p.B).area();
-    sum_clip += c;
-    sum_pang += tetia::baselines::pang_area(p.A, p.B);
-    max_abs_diff = std::max(max_abs_diff, std::abs(a - c));
-    if (a > 0.0) ++nonempty;
+    a.sums[0] += v;
+    a.sums[1] += tetia::intersect(p.A, p.B).area();
+    a.sums[2] += c;
+    a.sums[3] += tetia::baselines::pang_area(p.A, p.B);
+    a.max_abs_diff = std::max(a.max_abs_diff, std::abs(v - c));
+    if (v > 0.0) ++a.nonempty;
   }
-  const auto rel = [](double a, double b) {
-    return std::abs(a - b) / std::max(std::abs(a), std::abs(b));
-  };
-  const double rel_clip = rel(sum_area, sum_clip);
-  std::printf("pairs: %zu, seed %llu, non-empty intersections: %ld (%.2f%%)\n", ps.size(),
-              static_cast<unsigned long long>(kSeed), nonempty,
-              100.0 * static_cast<double>(nonempty) / static_cast<double>(ps.size()));
-  std::printf("total area: intersection_area %.17g\n", sum_area);
-  std::printf("            intersect         %.17g (rel. diff %.3g)\n", sum_intersect,
-              rel(sum_area, sum_intersect));
-  std::printf("            clip_area         %.17g (rel. diff %.3g)\n", sum_clip, rel_clip);
-  std::printf("            pang_area         %.17g (rel. diff %.3g)\n", sum_pang,
-              rel(sum_area, sum_pang));
-  std::printf("max |intersection_area - clip_area| over pairs: %.3g\n", max_abs_diff);
-  const bool ok = rel_clip <= 1e-9;
-  std::printf("check intersection_area vs clip_area total, 1e-9 relative: %s\n\n",
-              ok ? "OK" : "FAILED");
-  std::fflush(stdout);
-  return ok;
+  return tetia::bench::report_agreement(a);
 }
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  std::size_t n = 1000000;
-  bool check = true;
-  // Our own flags, removed before Google Benchmark sees the arguments.
-  int out = 1;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strncmp(argv[i], "--pairs=", 8) == 0) {
-      n = std::strtoull(argv[i] + 8, nullptr, 10);
-    } else if (std::strcmp(argv[i], "--no-check") == 0) {
-      check = false;
-    } else {
-      argv[out++] = argv[i];
-    }
-  }
-  argc = out;
-  if (n == 0) {
-    std::fprintf(stderr, "--pairs must be positive\n");
-    return 2;
-  }
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  pairs() = make_pairs(n);
-  const bool ok = !check || check_agreement();
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return ok ? 0 : 1;
-}
+int main(int argc, char** argv) { return tetia::bench::pairs_main<TriPair>(argc, argv, make_pairs, check_agreement); }
