@@ -18,8 +18,7 @@
 //    to +volume), tetrahedra() volumes add up to volume(), centroid inside the corners'
 //    bounding box, intersection_volume / intersection_moments and intersect() without
 //    statistics, and the supermesh's one-to-many path (src/one_to_many.hpp), give the same bits
-//    as intersect() with them, volume never negative or NaN,
-//    stats.inconsistencies == 0.
+//    as intersect() with them, volume never negative or NaN, stats.inconsistencies == 0.
 //
 // "Relative" means relative to min(|U|, |V|) (max for slivers and tiny-in-big), as in
 // test_kernel_vs_exact. A failure prints the pair with 17 digits and the stats.

@@ -1,8 +1,9 @@
 // tests/support/supermesh_checks.hpp -- the checks test_supermesh.cpp (tetrahedra) and
 // test_supermesh2d.cpp (triangles) share: brute force over all cell pairs with the exact GMP
 // reference, and "the supermesh finds exactly those pairs, each with the kernel's moments of its
-// two cells, the same with both searches and with one or two threads, bit for bit". One template over the mesh type; MeshTraits says what is
-// spelled differently (volume or area, Vec3 or Vec2).
+// two cells, the same with both searches and with one or two threads, bit for bit". One
+// template over the mesh type; MeshTraits says what is spelled differently (volume or area,
+// Vec3 or Vec2).
 #pragma once
 
 #include <gmpxx.h>
@@ -192,7 +193,8 @@ typename MeshTraits<Mesh>::Result check_against_brute_force(const Mesh& src, con
   // supermesh prepares each source cell once; that must not change the numbers).
   std::size_t not_the_kernel = 0;
   for (const auto& pc : front1.pieces) {
-    const auto [m, first] = Tr::kernel(src.cell(static_cast<std::size_t>(pc.source)), tgt.cell(static_cast<std::size_t>(pc.target)));
+    const auto [m, first] =
+        Tr::kernel(src.cell(static_cast<std::size_t>(pc.source)), tgt.cell(static_cast<std::size_t>(pc.target)));
     const double got_m = Tr::measure(pc);
     not_the_kernel += std::memcmp(&m, &got_m, sizeof(double)) != 0 || std::memcmp(&first, &pc.first, sizeof(first)) != 0;
   }
