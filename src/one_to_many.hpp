@@ -26,6 +26,21 @@ struct Conditioning {
 /// The conditioning of t, computed as the kernel computes it for each pair.
 Conditioning conditioning(const Tet& t);
 
+/// Above this quality the sign of a tetrahedron's det6, and so the signs of its barycentric
+/// map's coordinates, are certain: det6's rounding error is below about 1e-14 s^(3/2) (s the sum
+/// of squared edge lengths), and the quality is |det6| / s^(3/2).
+inline constexpr double kSignCertainQuality = 1e-12;
+
+/// Bit k set unless all four points (rows of c, barycentric coordinates in some tetrahedron)
+/// have coordinate k > 0: the faces whose plane does not have all four strictly on the
+/// tetrahedron's side.
+inline unsigned faces_not_strictly_inside(const double (&c)[4][4]) {
+  unsigned inside = 0xFu;
+  for (int i = 0; i < 4; ++i)
+    for (int k = 0; k < 4; ++k) inside &= ~(unsigned(!(c[i][k] > 0.0)) << k);
+  return ~inside & 0xFu;
+}
+
 class OneToMany {
  public:
   explicit OneToMany(const Tet& s);

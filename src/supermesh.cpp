@@ -183,15 +183,11 @@ unsigned faces_crossed(const Tet& T, const Tet& S);
 // T's det6 is certain (quality far above its rounding, as in OneToMany::moments); otherwise the
 // plain test decides.
 unsigned faces_crossed(const Tet& T, const detail::Conditioning& ct, const Tet& S) {
-  if (!(ct.quality > 1e-12)) return faces_crossed(T, S);
+  if (!(ct.quality > detail::kSignCertainQuality)) return faces_crossed(T, S);
   const detail::BarycentricMap map(T, ct.det6);
-  unsigned inside = 0xFu;
-  for (const Vec3& p : S) {
-    double c[4];
-    map(p, c);
-    for (int k = 0; k < 4; ++k) inside &= ~(unsigned(!(c[k] > 0.0)) << k);
-  }
-  return ~inside & 0xFu;
+  double c[4][4];
+  for (int i = 0; i < 4; ++i) map(S[static_cast<std::size_t>(i)], c[i]);
+  return detail::faces_not_strictly_inside(c);
 }
 
 unsigned faces_crossed(const Tet& T, const Tet& S) {
@@ -423,7 +419,7 @@ class Worker {
       }
     } else {
       // In 3D with what depends on s or t alone computed once (bit for bit the same moments).
-      if constexpr (Dm::d == 3) m = one_.moments(T_, sh_.target_conditioning[static_cast<std::size_t>(t)], &crossed_);
+      if constexpr (Dm::d == 3) m = one_->moments(T_, sh_.target_conditioning[static_cast<std::size_t>(t)], &crossed_);
       else m = intersection_moments(S_, T_);
       if (!(Dm::measure(m) > floor)) return false;
     }
@@ -544,14 +540,7 @@ class Worker {
   Shape shape_;
   unsigned crossed_ = 0xFu;  // faces of T_ that S_ may meet, as the kernel knew (OneToMany::moments)
   // 3D: the source cell prepared for intersection_moments with many targets.
-  struct OneToManyHolder {
-    std::optional<detail::OneToMany> v;
-    void emplace(const Tet& s) { v.emplace(s); }
-    Moments moments(const Tet& t, const detail::Conditioning& c, unsigned* crossed) const {
-      return v->moments(t, c, crossed);
-    }
-  };
-  std::conditional_t<Dm::d == 3, OneToManyHolder, std::monostate> one_;
+  std::conditional_t<Dm::d == 3, std::optional<detail::OneToMany>, std::monostate> one_;
 };
 
 // The visiting order of the source cells: by the Morton code of their centroids (63 / d bits

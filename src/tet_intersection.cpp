@@ -1571,17 +1571,12 @@ Moments OneToMany::moments(const Tet& t, const Conditioning& ct, unsigned* t_fac
   const bool ok = solve_with<true, false>(make, fr, res, nullptr);
   if (t_faces) {
     // The signs of a map's coordinates are those of orient3d only if the sign of its det6 is
-    // right: certain when the quality (|det6| / s^(3/2), s the sum of squared edge lengths) is
-    // far above det6's rounding error (about 1e-14 s^(3/2) at most).
-    constexpr double kSignCertain = 1e-12;
+    // certain (kSignCertainQuality).
     *t_faces = 0xFu;
-    if (!ok || !((fr.swapped ? cs_.quality : ct.quality) > kSignCertain)) {
+    if (!ok || !((fr.swapped ? cs_.quality : ct.quality) > kSignCertainQuality)) {
       // nothing known (fr is not set when !ok)
     } else if (!fr.swapped) {  // fr.C holds s's vertices in t's coordinates
-      unsigned inside = 0xFu;
-      for (int i = 0; i < 4; ++i)
-        for (int k = 0; k < 4; ++k) inside &= ~(unsigned(!(fr.C[i][k] > 0.0)) << k);
-      *t_faces = (~inside & 0xFu) | kPlanesTested;
+      *t_faces = faces_not_strictly_inside(fr.C) | kPlanesTested;
     } else {  // fr.C holds t's vertices in s's coordinates
       unsigned negative[4];  // bit p: vertex j of t has coordinate p < 0
       for (int j = 0; j < 4; ++j) {
