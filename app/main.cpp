@@ -100,7 +100,7 @@ int main(int argc, char** argv) {
   sm_cmd->add_option("target", sm.target, "Target mesh")->required();
   sm_cmd->add_option("-o,--output", sm.output, "Write the supermesh (its tetrahedralization) as VTU");
   sm_cmd->add_option("--threads", sm.threads, "OpenMP threads (0: default)")->capture_default_str();
-  sm_cmd->add_option("--search", sm.search, "Candidate search: front (advancing front) or rtree")
+  sm_cmd->add_option("--search", sm.search, "Candidate search: front (advancing front; target cells must not overlap) or rtree")
       ->check(CLI::IsMember({"front", "rtree"}))
       ->capture_default_str();
   sm_cmd->footer("The dimension comes from the files: tetrahedra make a 3D mesh; without them,\n"

@@ -31,30 +31,18 @@ Conditioning conditioning(const Tet& t);
 /// of squared edge lengths), and the quality is |det6| / s^(3/2).
 inline constexpr double kSignCertainQuality = 1e-12;
 
-/// Bit k set unless all four points (rows of c, barycentric coordinates in some tetrahedron)
-/// have coordinate k > 0: the faces whose plane does not have all four strictly on the
-/// tetrahedron's side.
-inline unsigned faces_not_strictly_inside(const double (&c)[4][4]) {
-  unsigned inside = 0xFu;
-  for (int i = 0; i < 4; ++i)
-    for (int k = 0; k < 4; ++k) inside &= ~(unsigned(!(c[i][k] > 0.0)) << k);
-  return ~inside & 0xFu;
-}
-
 class OneToMany {
  public:
   explicit OneToMany(const Tet& s);
   /// intersection_moments(s, t), given ct == conditioning(t).
   ///
-  /// With t_faces: which faces of t s may meet, from the signs of the barycentric coordinates
-  /// the kernel computed (certified: BarycentricMap's signs are exact where not zero). Bit k is
-  /// cleared when s certainly does not meet t's face k (the triangle): if t was the reference
-  /// (s's vertices in t's coordinates), when every vertex of s has coordinate k > 0 (s strictly
-  /// on t's side of the face's plane); if s was, when the face's three vertices all have some
-  /// coordinate p < 0 (strictly outside s's face p). kPlanesTested is set in the first case,
-  /// where the plane test is complete; in the second the caller may add its own plane test.
-  /// t_faces is 0xF (nothing known) for flat or non-finite input, and when the reference's
-  /// quality is too low for the sign of its determinant, and so of its map, to be certain.
+  /// With t_faces: which faces of t s may cross, from the intersection's own facets. Bit k is
+  /// cleared when the polytope s n t has no facet on t's face k: int(s) does not meet the
+  /// interior of that triangle (where it does, s n t has a facet there), so no path inside s
+  /// crosses it. kPlanesTested is then set: the mask is complete, no plane test is needed.
+  /// t_faces is 0xF (nothing known) when the intersection is empty, for flat or non-finite
+  /// input, and when the reference's quality is too low for the sign of its determinant, and so
+  /// of its map and of the kernel's labels, to be certain.
   static constexpr unsigned kPlanesTested = 0x10;
   Moments moments(const Tet& t, const Conditioning& ct, unsigned* t_faces = nullptr) const;
 

@@ -15,43 +15,50 @@
 //
 //   1. Seeds: the targets of s's BFS parent (processed, same chunk), tried one at a time; each
 //      one found positive starts a flood fill: a target t positive with s queues its face
-//      neighbours across the faces of t that s may meet. Not across a face whose plane has all
-//      of s strictly on t's side (certified with orient3d's error bound: the neighbour meets s
-//      with zero volume), nor, in 3D, across a face whose three vertices lie strictly outside
-//      one face of s (certified signs of the kernel's coordinates, OneToMany::moments: no path
-//      inside s crosses that face, see below); a target tested zero queues nothing. Seeding
-//      stops once s is covered (the volumes found add up to |s| to 1e-12) or a risky target is
-//      found.
+//      neighbours across the faces of t that s may cross. In 3D these are the faces on which
+//      the kernel's polytope s n t has a facet (OneToMany::moments: where int(s) meets the
+//      interior of a face, s n t has a facet there, so without one no path inside s crosses
+//      it); otherwise (kept polyhedra or mixed mass, a reference too flat for its signs to be
+//      certain, and in 2D) the faces whose plane does not have all of s strictly on t's side
+//      (certified with orient3d's error bound: the neighbour meets s with zero volume). A target
+//      tested zero queues nothing. Seeding stops once s is covered (the volumes found add up
+//      to |s| to 1e-12).
 //   2. Not covered yet: the targets of every processed neighbour of s and their neighbours
 //      (this crosses zero-volume contacts: for identical or face-sharing meshes the parent's
 //      targets only touch s, and it is their neighbours that intersect it), flood again.
-//   3. s is "at risk" when it has no processed neighbour (start of a region), when a target
-//      found positive is "risky" (it has a boundary face, neighbour -1, which also covers
-//      non-conforming or duplicated interior faces, or a flat neighbour, which breaks face
-//      connectivity), or when the pieces found do not cover s. An at-risk cell is tested
-//      against every target whose bounding box overlaps its own (R-tree query), which finds
-//      every positive pair by itself.
+//   3. A target found positive is "risky" when it has a boundary face (neighbour -1, which also
+//      covers non-conforming interior faces) or a flat neighbour (which breaks face
+//      connectivity). If the pieces found do not cover s (this includes a cell with no
+//      processed neighbour, the start of a region), s is tested against every target whose
+//      bounding box overlaps its own (R-tree query), which finds every positive pair by itself.
+//      If they cover s but s met a risky target, the risky targets among those, not yet
+//      tested, are tested, and each positive one starts a flood.
 //
-// Why this finds every pair (s, t) with vol(s n t) > 0. Let O be the interior of s intersected
-// with the interior of the target domain, minus the risky faces. Each piece s n t of positive
-// volume has its interior in O. Inside one connected component K of O two pieces are linked by
-// a path avoiding target edges (removing segments does not disconnect an open set in R^3); the
-// path crosses target faces at interior points of s, so s meets those faces and crosses their
-// planes, and each such face is shared by two targets that both meet s with positive volume:
-// the flood reaches every piece of K from any one of them. If s is not at risk, the flood found
-// a component K0. If K0 were not dense in s, its boundary inside s would separate the open
-// convex set int(s), so it would have positive area; it lies on risky faces, so a target of K0
-// would own a risky face and s would be at risk. Hence K0 is dense in s, it is the only
-// component (another one would be an open set disjoint from a dense open set), and the flood
-// found every positive target. An at-risk cell is complete by the R-tree. The seeds only decide
-// how often the R-tree is needed (near the target boundary: O(n^(2/3)) cells for meshes of one
-// domain), never what is found; zero-volume contacts never stop the front (a flood that finds
-// nothing falls back to the R-tree). The argument is exact; the kernel decides positivity in
-// floating point, and below the resolution of doubles it can report zero for a sliver the
-// argument walks through. The coverage test catches that: a flood cut short leaves s visibly
-// uncovered (the test found such cases with 1e-12 offsets). Pieces below the resolution (1e-14
-// of the smaller cell) are dropped in both searches, so front and R-tree return the same
-// pieces.
+// Why this finds every pair (s, t) with vol(s n t) > 0. The target cells are a mesh: they do
+// not overlap (several overlapping meshes in one are found completely only by the R-tree
+// search). Let O be the interior of s intersected with the interior of the target domain,
+// minus the risky faces (those without a neighbour or next to a flat cell). Each piece s n t of
+// positive volume has its interior in O. Inside one connected component K of O two pieces are
+// linked by a path avoiding target edges (removing segments does not disconnect an open set in
+// R^3); the path crosses target faces at interior points of s and of the faces, so s n t has a
+// facet on each face it crosses (and s crosses the face's plane), and each such face is shared
+// by two targets that both meet s with positive volume: the flood reaches every piece of K from
+// any one of them. The flood found a component K0. If K0 were not dense in s, its boundary
+// inside s would separate the open convex set int(s), so it would have positive area; it lies
+// on risky faces, so a target of K0 would own a risky face and would be risky. So if s met no
+// risky target, K0 is dense in s, it is the only component (another one would be an open set
+// disjoint from a dense open set), and the flood found every positive target. If it did, every
+// other component K has a boundary inside int(s) (which is connected), on risky faces; the
+// target on K's side of such a face owns it, so it is risky, it meets s with positive volume,
+// and the risky pass tests it and floods K. An R-tree pass is complete by itself. The seeds
+// only decide how often the R-tree is needed (near the target boundary: O(n^(2/3)) cells for
+// meshes of one domain), never what is found; zero-volume contacts never stop the front (a
+// flood that finds nothing falls back to the R-tree). The argument is exact; the kernel decides
+// positivity, and its facets, in floating point, and below the resolution of doubles it can
+// report zero for a sliver the argument walks through, or drop a facet of rounding-sized area.
+// The coverage test catches that: a flood cut short leaves s visibly uncovered (the test found
+// such cases with 1e-12 offsets). Pieces below the resolution (1e-14 of the smaller cell) are
+// dropped in both searches, so front and R-tree return the same pieces.
 //
 // Threads: the chunks (their number depends on the mesh size only) each have their own front
 // and are handed to threads dynamically. Every pair is computed by one kernel call with the
@@ -181,13 +188,17 @@ unsigned faces_crossed(const Tet& T, const Tet& S);
 // certified the same way, without branches), given T's conditioning: bit k is set unless every
 // vertex of S has coordinate k > 0. The map's signs are those of orient3d only when the sign of
 // T's det6 is certain (quality far above its rounding, as in OneToMany::moments); otherwise the
-// plain test decides.
+// plain test decides. Used where the kernel's own facets are not at hand (kept polyhedra or
+// mixed mass, or OneToMany could not certify them).
 unsigned faces_crossed(const Tet& T, const detail::Conditioning& ct, const Tet& S) {
   if (!(ct.quality > detail::kSignCertainQuality)) return faces_crossed(T, S);
   const detail::BarycentricMap map(T, ct.det6);
   double c[4][4];
   for (int i = 0; i < 4; ++i) map(S[static_cast<std::size_t>(i)], c[i]);
-  return detail::faces_not_strictly_inside(c);
+  unsigned inside = 0xFu;  // bit k: all four have coordinate k > 0
+  for (int i = 0; i < 4; ++i)
+    for (int k = 0; k < 4; ++k) inside &= ~(unsigned(!(c[i][k] > 0.0)) << k);
+  return ~inside & 0xFu;
 }
 
 unsigned faces_crossed(const Tet& T, const Tet& S) {
@@ -437,11 +448,11 @@ class Worker {
   }
 
   // Tests the queued candidates from cand_[head_] on; a positive one queues its neighbours
-  // across the faces s may meet (the others lead to zero-volume neighbours, or no path inside s
-  // crosses them). Stops early once a risky target is found (the cell then goes to the R-tree
-  // anyway).
+  // across the faces s may cross (the others lead to zero-volume neighbours, or no path inside s
+  // crosses them). It does not stop at a risky target: the R-tree pass that follows then tests
+  // only what the flood has not.
   void flood(std::int32_t s) {
-    while (head_ < cand_.size() && !risky_hit_) {
+    while (head_ < cand_.size()) {
       const std::int32_t t = cand_[head_++];
       if (!test(s, t)) continue;
       // The kernel's own certified signs (see OneToMany::moments), with the plane test where
@@ -460,6 +471,16 @@ class Worker {
     sh_.tree.query(bgi::intersects(TreeT::bbox(sbox_)), std::back_inserter(hits_));
     for (const auto& h : hits_)
       if (mark_[static_cast<std::size_t>(h.second)] != stamp_ + 1) test(s, h.second);
+  }
+
+  // For a covered s that met a risky target: the risky targets whose bounding box overlaps s's,
+  // not yet tested, each a seed for a flood (see "Why this finds every pair" at the top).
+  void risky_pass(std::int32_t s) {
+    hits_.clear();
+    sh_.tree.query(bgi::intersects(TreeT::bbox(sbox_)), std::back_inserter(hits_));
+    for (const auto& h : hits_)
+      if (sh_.risky[static_cast<std::size_t>(h.second)]) enqueue(h.second);
+    flood(s);
   }
 
   void begin_cell(std::int32_t s) {
@@ -501,23 +522,25 @@ class Worker {
       // covers s (many of them do not meet s: not testing them saves kernel calls).
       const std::size_t b = sh_.piece_begin[static_cast<std::size_t>(p)];
       const std::size_t e = b + sh_.piece_count[static_cast<std::size_t>(p)];
-      for (std::size_t i = b; i < e && !complete && !risky_hit_; ++i) {
+      for (std::size_t i = b; i < e && !complete; ++i) {
         const std::int32_t t = pieces_[i].target;  // by index: test() appends to pieces_
         if (seen(t)) continue;
         enqueue(t);
         flood(s);
-        complete = !risky_hit_ && covered();
+        complete = covered();
       }
-      if (!complete && !risky_hit_) {
+      if (!complete) {
         // Step 2: all processed neighbours' targets and their neighbours.
         for (const std::int32_t q : sh_.source.neighbors[static_cast<std::size_t>(s)])
           if (in_chunk(q, ch) && sh_.state[static_cast<std::size_t>(q)] == 2) enqueue_targets_of(q);
         flood(s);
-        complete = !risky_hit_ && covered();
+        complete = covered();
       }
     }
-    // Step 3: at risk.
+    // Step 3: at risk. Not covered: every candidate. Covered, but a risky target was met:
+    // only the other components of O can hold pieces, and each holds a risky target.
     if (!complete) rtree_pass(s);
+    else if (risky_hit_) risky_pass(s);
     end_cell(s);
   }
 

@@ -1570,23 +1570,17 @@ Moments OneToMany::moments(const Tet& t, const Conditioning& ct, unsigned* t_fac
   const auto make = [&](Frame& f, bool other) { return frame_from(s_, cs_, &map_, t, ct, f, other); };
   const bool ok = solve_with<true, false>(make, fr, res, nullptr);
   if (t_faces) {
-    // The signs of a map's coordinates are those of orient3d only if the sign of its det6 is
-    // certain (kSignCertainQuality).
+    // The faces of t on which the polytope has a facet: labels 4-7 (planes of Y) when t was the
+    // reference, 0-3 (faces of X) when s was. Where int(s) crosses the interior of t's face k,
+    // a small ball around the crossing lies in s and half of it in t, so s n t has a facet on
+    // that face; without one, no path inside s crosses it. The labels are trusted only when the
+    // sign of the reference's det6, and so of its map, is certain (kSignCertainQuality).
     *t_faces = 0xFu;
-    if (!ok || !((fr.swapped ? cs_.quality : ct.quality) > kSignCertainQuality)) {
-      // nothing known (fr is not set when !ok)
-    } else if (!fr.swapped) {  // fr.C holds s's vertices in t's coordinates
-      *t_faces = faces_not_strictly_inside(fr.C) | kPlanesTested;
-    } else {  // fr.C holds t's vertices in s's coordinates
-      unsigned negative[4];  // bit p: vertex j of t has coordinate p < 0
-      for (int j = 0; j < 4; ++j) {
-        negative[j] = 0;
-        for (int p = 0; p < 4; ++p) negative[j] |= unsigned(fr.C[j][p] < 0.0) << p;
-      }
-      for (int k = 0; k < 4; ++k) {
-        const unsigned all = negative[(k + 1) & 3] & negative[(k + 2) & 3] & negative[(k + 3) & 3];
-        *t_faces &= ~(unsigned(all != 0) << k);
-      }
+    if (ok && res.num_corners > 0 && (fr.swapped ? cs_.quality : ct.quality) > kSignCertainQuality) {
+      const int base = fr.swapped ? 0 : 4;
+      unsigned faces = 0;
+      for (int k = 0; k < 4; ++k) faces |= unsigned(res.on_plane[base + k] != 0) << k;
+      *t_faces = faces | kPlanesTested;
     }
   }
   if (!ok) return {};

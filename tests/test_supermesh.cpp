@@ -73,6 +73,7 @@ TetMesh kuhn_subset(std::array<int, 3> n, const std::function<bool(int, int, int
 
 using tetia::testsupport::bitwise_equal;
 using tetia::testsupport::check_against_brute_force;
+using tetia::testsupport::joined;
 using tetia::testsupport::describe;
 using tetia::testsupport::kResolution;
 using tetia::testsupport::PairList;
@@ -231,17 +232,35 @@ TEST(Supermesh, LShapeAndHoles) {
 TEST(Supermesh, ComponentInsideOneSourceCell) {
   // A small target mesh strictly inside one source tetrahedron, plus one far away.
   const TetMesh src = kuhn({2, 2, 2});
-  TetMesh tgt = kuhn({1, 1, 1}, {0.55, 0.3, 0.1}, {0.1, 0.1, 0.1});
-  const TetMesh other = kuhn({1, 1, 1}, {1.5, 1.5, 1.6}, {0.2, 0.2, 0.2});
-  const auto base = static_cast<std::int32_t>(tgt.nodes.size());
-  tgt.nodes.insert(tgt.nodes.end(), other.nodes.begin(), other.nodes.end());
-  for (auto c : other.cells) {
-    for (auto& v : c) v += base;
-    tgt.cells.push_back(c);
-  }
-  tetia::finalize(tgt, "two small components");
+  const TetMesh tgt = joined(kuhn({1, 1, 1}, {0.55, 0.3, 0.1}, {0.1, 0.1, 0.1}),
+                            kuhn({1, 1, 1}, {1.5, 1.5, 1.6}, {0.2, 0.2, 0.2}), "two small components");
   const Supermesh sm = check_against_brute_force(src, tgt, "components inside source cells");
   EXPECT_NEAR(sm.intersection_volume(), 0.001 + 0.008, 1e-15);
+}
+
+TEST(Supermesh, NonConformingInterface) {
+  // Two blocks glued at x = 1 without matching faces (2^3 and 3^3 cubes): the interface faces
+  // have no neighbour, so the cells along it are risky. Source cells nearly inside one block,
+  // with a vertex a little across the interface (rotations by 1e-3 to 1e-6), are covered by
+  // that block up to the coverage tolerance and still have a piece in the other: the risky
+  // targets seed the search for it.
+  const TetMesh tgt = joined(kuhn({2, 2, 2}, {0, 0, 0}, {0.5, 0.5, 0.5}),
+                            kuhn({3, 3, 3}, {1, 0, 0}, {1.0 / 3, 1.0 / 3, 1.0 / 3}), "two blocks, non-conforming interface");
+  ASSERT_NEAR(tgt.total_volume(), 2.0, 1e-14);
+  const TetMesh rotated = mapped(kuhn({3, 2, 2}, {0, 0, 0}, {0.6, 0.45, 0.45}), rigid({1, 2, 3}, 0.1, {0.1, 0.05, 0.05}));
+  check_against_brute_force(rotated, tgt, "rotated box -> two blocks");
+  check_against_brute_force(tgt, rotated, "two blocks -> rotated box");
+  for (const double angle : {1e-3, 1e-4, 5e-5, 3e-5, 2e-5, 1e-5, 1e-6}) {
+    // Cells up to the interface, away from the other boundaries, tilted about an axis through
+    // (1, 0.5, 0.5).
+    const auto tilt = rigid({0, 1, 1}, angle, {0, 0, 0});
+    const TetMesh near = mapped(kuhn({2, 2, 2}, {0.5, 0.25, 0.25}, {0.25, 0.25, 0.25}), [&](Vec3 p) {
+      return tilt(p - Vec3{1, 0.5, 0.5}) + Vec3{1, 0.5, 0.5};
+    });
+    char name[64];
+    std::snprintf(name, sizeof name, "tilted by %.0e -> two blocks", angle);
+    check_against_brute_force(near, tgt, name);
+  }
 }
 
 TEST(Supermesh, PolyhedraKeptMatchPieces) {

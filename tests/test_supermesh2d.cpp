@@ -66,21 +66,9 @@ TriMesh grid_subset(std::array<int, 2> n, const std::function<bool(int, int)>& k
   return m;
 }
 
-/// Two meshes as one (two components, or overlapping ones if the caller wants).
-TriMesh joined(TriMesh a, const TriMesh& b) {
-  const auto base = static_cast<std::int32_t>(a.nodes.size());
-  a.nodes.insert(a.nodes.end(), b.nodes.begin(), b.nodes.end());
-  for (auto c : b.cells) {
-    for (auto& v : c) v += base;
-    a.cells.push_back(c);
-  }
-  tetia::finalize(a, "joined");
-  return a;
-}
-
-
 using tetia::testsupport::bitwise_equal;
 using tetia::testsupport::check_against_brute_force;
+using tetia::testsupport::joined;
 using tetia::testsupport::describe;
 using tetia::testsupport::kResolution;
 using tetia::testsupport::PairList;
@@ -248,6 +236,25 @@ TEST(Supermesh2D, ComponentInsideOneSourceCell) {
   const TriMesh tgt = joined(grid({1, 1}, {0.55, 0.1}, {0.1, 0.1}), grid({1, 1}, {1.5, 1.7}, {0.2, 0.2}));
   const Supermesh2 sm = check_against_brute_force(src, tgt, "components inside source cells");
   EXPECT_NEAR(sm.intersection_area(), 0.01 + 0.04, 1e-15);
+}
+
+TEST(Supermesh2D, NonConformingInterface) {
+  // The 3D test's counterpart: two blocks of 2^2 and 3^2 squares glued at x = 1 without matching
+  // edges (risky cells along the interface), and source cells tilted a little across it.
+  const TriMesh tgt = joined(grid({2, 2}, {0, 0}, {0.5, 0.5}), grid({3, 3}, {1, 0}, {1.0 / 3, 1.0 / 3}),
+                             "two blocks, non-conforming interface");
+  ASSERT_NEAR(tgt.total_area(), 2.0, 1e-14);
+  check_against_brute_force(mapped(grid({3, 2}, {0, 0}, {0.6, 0.45}), rigid(0.1, {0.1, 0.05})), tgt,
+                            "rotated box -> two blocks");
+  for (const double angle : {1e-3, 1e-5, 1e-6, 5e-7, 3e-7, 2e-7, 1e-7}) {
+    const auto tilt = rigid(angle, {0, 0});
+    const TriMesh near = mapped(grid({6, 6}, {0.25, 0.125}, {0.125, 0.125}), [&](Vec2 p) {
+      return tilt(p - Vec2{1, 0.5}) + Vec2{1, 0.5};
+    });
+    char name[64];
+    std::snprintf(name, sizeof name, "tilted by %.0e -> two blocks", angle);
+    check_against_brute_force(near, tgt, name);
+  }
 }
 
 TEST(Supermesh2D, PolygonsKeptMatchPieces) {

@@ -14,8 +14,11 @@
 // advancing front over facet adjacency (faces of tetrahedra, edges of triangles), seeded per
 // connected region by an R-tree query, with an R-tree query for the cells the front cannot
 // vouch for (near the target boundary; linear complexity, robust to non-convex domains, holes,
-// several components, identical and facet-sharing cells), or by a plain R-tree search; both
-// give the same pieces. Results are identical for any number of threads. Both dimensions run
+// several components, identical and facet-sharing cells, non-conforming interfaces), or by a
+// plain R-tree search; both give the same pieces provided the target cells do not overlap one
+// another, as in any mesh (the front walks the target's facet adjacency: several overlapping
+// meshes given as one target are searched completely only by the R-tree). Results are
+// identical for any number of threads. Both dimensions run
 // the same code (src/supermesh.cpp, a template over the dimension) with their own kernel.
 #pragma once
 

@@ -70,6 +70,20 @@ struct MeshTraits<TriMesh> {
 // zero, or zero where it is tiny, and the supermesh drops pieces of at most 1e-14 times the
 // smaller cell's measure. Pairs above twice the resolution must be found; pairs of exact measure
 // zero must not be (above the resolution).
+/// Two meshes as one, with separate nodes (two components, a non-conforming interface, or
+/// overlapping cells if the caller wants).
+template <class Mesh>
+Mesh joined(Mesh a, const Mesh& b, const char* name = "joined") {
+  const auto base = static_cast<std::int32_t>(a.nodes.size());
+  a.nodes.insert(a.nodes.end(), b.nodes.begin(), b.nodes.end());
+  for (auto c : b.cells) {
+    for (auto& v : c) v += base;
+    a.cells.push_back(c);
+  }
+  tetia::finalize(a, name);
+  return a;
+}
+
 inline constexpr double kResolution = 1e-14;
 
 using PairList = std::vector<std::pair<std::int32_t, std::int32_t>>;  // (target, source)
