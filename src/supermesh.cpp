@@ -26,39 +26,41 @@
 //   2. Not covered yet: the targets of every processed neighbour of s and their neighbours
 //      (this crosses zero-volume contacts: for identical or face-sharing meshes the parent's
 //      targets only touch s, and it is their neighbours that intersect it), flood again.
-//   3. A target found positive is "risky" when it has a boundary face (neighbour -1, which also
-//      covers non-conforming interior faces) or a flat neighbour (which breaks face
-//      connectivity). If the pieces found do not cover s (this includes a cell with no
-//      processed neighbour, the start of a region), s is tested against every target whose
-//      bounding box overlaps its own (R-tree query), which finds every positive pair by itself.
-//      If they cover s but s met a risky target, the risky targets among those, not yet
-//      tested, are tested, and each positive one starts a flood.
+//   3. A face of a target is "risky" when it has no neighbour (the boundary, which also covers
+//      non-conforming interior faces) or a flat one (which breaks face connectivity). If the
+//      pieces found do not cover s (this includes a cell with no processed neighbour, the start
+//      of a region), s is tested against every target whose bounding box overlaps its own
+//      (R-tree query), which finds every positive pair by itself. If they cover s but the flood
+//      crossed a risky face (one among the faces a positive target queued its neighbours
+//      across), the targets with a risky face among those, not yet tested, are tested, and each
+//      positive one starts a flood.
 //
 // Why this finds every pair (s, t) with vol(s n t) > 0. The target cells are a mesh: they do
 // not overlap (several overlapping meshes in one are found completely only by the R-tree
 // search). Let O be the interior of s intersected with the interior of the target domain,
-// minus the risky faces (those without a neighbour or next to a flat cell). Each piece s n t of
-// positive volume has its interior in O. Inside one connected component K of O two pieces are
-// linked by a path avoiding target edges (removing segments does not disconnect an open set in
-// R^3); the path crosses target faces at interior points of s and of the faces, so s n t has a
-// facet on each face it crosses (and s crosses the face's plane), and each such face is shared
-// by two targets that both meet s with positive volume: the flood reaches every piece of K from
-// any one of them. The flood found a component K0. If K0 were not dense in s, its boundary
-// inside s would separate the open convex set int(s), so it would have positive area; it lies
-// on risky faces, so a target of K0 would own a risky face and would be risky. So if s met no
-// risky target, K0 is dense in s, it is the only component (another one would be an open set
-// disjoint from a dense open set), and the flood found every positive target. If it did, every
-// other component K has a boundary inside int(s) (which is connected), on risky faces; the
-// target on K's side of such a face owns it, so it is risky, it meets s with positive volume,
-// and the risky pass tests it and floods K. An R-tree pass is complete by itself. The seeds
-// only decide how often the R-tree is needed (near the target boundary: O(n^(2/3)) cells for
-// meshes of one domain), never what is found; zero-volume contacts never stop the front (a
-// flood that finds nothing falls back to the R-tree). The argument is exact; the kernel decides
-// positivity, and its facets, in floating point, and below the resolution of doubles it can
-// report zero for a sliver the argument walks through, or drop a facet of rounding-sized area.
-// The coverage test catches that: a flood cut short leaves s visibly uncovered (the test found
-// such cases with 1e-12 offsets). Pieces below the resolution (1e-14 of the smaller cell) are
-// dropped in both searches, so front and R-tree return the same pieces.
+// minus the risky faces. Each piece s n t of positive volume has its interior in O. Inside one
+// connected component K of O two pieces are linked by a path avoiding target edges (removing
+// segments does not disconnect an open set in R^3); the path crosses target faces at interior
+// points of s and of the faces, so s n t has a facet on each face it crosses (and s crosses the
+// face's plane), and each such face is shared by two targets that both meet s with positive
+// volume: the flood reaches every piece of K from any one of them. The flood found a component
+// K0. If K0 were not dense in s, its boundary inside int(s) would separate that open convex
+// set, so it would have positive area, and it lies on risky faces: at an interior point of
+// such a face, inside s, the target t of K0 on that side has a facet of s n t there, so the
+// flood crossed a risky face. So if it crossed none, K0 is dense in s, it is the only component
+// (another one would be an open set disjoint from a dense open set), and the flood found every
+// positive target. If it did, every other component K has a boundary inside int(s) (which is
+// connected), on risky faces; the target on K's side of such a face owns it as a risky face,
+// meets s with positive volume and lies in K: the risky pass tests it and floods K. An R-tree
+// pass is complete by itself. The seeds only decide how often the R-tree is needed (near the
+// target boundary: O(n^(2/3)) cells for meshes of one domain), never what is found;
+// zero-volume contacts never stop the front (a flood that finds nothing falls back to the
+// R-tree). The argument is exact; the kernel decides positivity, and its facets, in floating
+// point, and below the resolution of doubles it can report zero for a sliver the argument walks
+// through, or drop a facet of rounding-sized area. The coverage test catches that: a flood cut
+// short leaves s visibly uncovered (the test found such cases with 1e-12 offsets). Pieces below
+// the resolution (1e-14 of the smaller cell) are dropped in both searches, so front and R-tree
+// return the same pieces.
 //
 // Threads: the chunks (their number depends on the mesh size only) each have their own front
 // and are handed to threads dynamically. Every pair is computed by one kernel call with the
@@ -303,7 +305,7 @@ struct Shared {
   const Mesh& target;
   const typename Tree<Dm::d>::RTree& tree;
   const std::vector<Box<Dm::d>>& target_box;
-  const std::vector<std::uint8_t>& risky;  // target has a boundary face or a flat neighbour
+  const std::vector<std::uint8_t>& risky_faces;  // bit k: face k has no neighbour, or a flat one
   // 3D: each target's conditioning, computed once (see src/one_to_many.hpp); empty in 2D.
   const std::vector<detail::Conditioning>& target_conditioning;
   bool keep_shapes;  // keep the polyhedra (polygons)
@@ -437,7 +439,6 @@ class Worker {
     reserve_for_one_more(pieces_);
     pieces_.push_back(Dm::piece(s, t, m));
     covered_ += Dm::measure(m);
-    if (sh_.risky[static_cast<std::size_t>(t)]) risky_hit_ = true;
     return true;
   }
 
@@ -449,7 +450,7 @@ class Worker {
 
   // Tests the queued candidates from cand_[head_] on; a positive one queues its neighbours
   // across the faces s may cross (the others lead to zero-volume neighbours, or no path inside s
-  // crosses them). It does not stop at a risky target: the R-tree pass that follows then tests
+  // crosses them). It does not stop at a risky face: the R-tree pass that may follow then tests
   // only what the flood has not.
   void flood(std::int32_t s) {
     while (head_ < cand_.size()) {
@@ -459,6 +460,7 @@ class Worker {
       // they do not include it.
       const unsigned crossed = crossed_ & detail::OneToMany::kPlanesTested ? crossed_ & 0xFu
                                                                             : crossed_ & plane_test(t);
+      if (crossed & sh_.risky_faces[static_cast<std::size_t>(t)]) crossed_risky_ = true;
       const auto& nb = sh_.target.neighbors[static_cast<std::size_t>(t)];
       for (std::size_t k = 0; k < nb.size(); ++k)
         if (crossed >> k & 1u) enqueue(nb[k]);
@@ -473,13 +475,13 @@ class Worker {
       if (mark_[static_cast<std::size_t>(h.second)] != stamp_ + 1) test(s, h.second);
   }
 
-  // For a covered s that met a risky target: the risky targets whose bounding box overlaps s's,
-  // not yet tested, each a seed for a flood (see "Why this finds every pair" at the top).
+  // For a covered s that crossed a risky face: the targets with a risky face whose bounding box
+  // overlaps s's, not yet tested, each a seed for a flood (see "Why this finds every pair").
   void risky_pass(std::int32_t s) {
     hits_.clear();
     sh_.tree.query(bgi::intersects(TreeT::bbox(sbox_)), std::back_inserter(hits_));
     for (const auto& h : hits_)
-      if (sh_.risky[static_cast<std::size_t>(h.second)]) enqueue(h.second);
+      if (sh_.risky_faces[static_cast<std::size_t>(h.second)]) enqueue(h.second);
     flood(s);
   }
 
@@ -487,7 +489,7 @@ class Worker {
     next_stamp();
     cand_.clear();
     head_ = 0;
-    risky_hit_ = false;
+    crossed_risky_ = false;
     covered_ = 0.0;
     S_ = sh_.source.cell(static_cast<std::size_t>(s));
     if constexpr (Dm::d == 3) one_.emplace(S_);
@@ -537,10 +539,10 @@ class Worker {
         complete = covered();
       }
     }
-    // Step 3: at risk. Not covered: every candidate. Covered, but a risky target was met:
-    // only the other components of O can hold pieces, and each holds a risky target.
+    // Step 3: at risk. Not covered: every candidate. Covered, but a risky face was crossed:
+    // only the other components of O can hold pieces, and each holds a target with a risky face.
     if (!complete) rtree_pass(s);
-    else if (risky_hit_) risky_pass(s);
+    else if (crossed_risky_) risky_pass(s);
     end_cell(s);
   }
 
@@ -554,7 +556,7 @@ class Worker {
   std::vector<Shape> shapes_;
   std::vector<LocalMass> mass_;  // parallel to pieces_ when kept
   std::size_t candidates_ = 0;
-  bool risky_hit_ = false;
+  bool crossed_risky_ = false;  // a positive target's risky face crossed by s (flood)
   double covered_ = 0.0;  // volume of s's pieces found so far
   Cell S_{};
   Cell T_{};  // the target cell last tested
@@ -622,9 +624,9 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
   if (ns == 0 || nt == 0) return out;
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
 
-  // Target bounding boxes, the R-tree (packed: bulk loading), and risky targets.
+  // Target bounding boxes, the R-tree (packed: bulk loading), and risky faces.
   std::vector<Box<Dm::d>> target_box(nt);
-  std::vector<std::uint8_t> risky(nt, 0);
+  std::vector<std::uint8_t> risky_faces(nt, 0);
   std::vector<detail::Conditioning> target_conditioning(Dm::d == 3 ? nt : 0);
   std::vector<typename TreeT::Value> values(nt);
   const auto nt_i = static_cast<std::int64_t>(nt);
@@ -634,10 +636,12 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
     const auto t = static_cast<std::size_t>(i);
     target_box[t] = box_of<Mesh>(target.cell(t));
     values[t] = {TreeT::bbox(target_box[t]), static_cast<std::int32_t>(i)};
-    std::uint8_t r = 0;
-    for (const std::int32_t n : target.neighbors[t])
-      r |= static_cast<std::uint8_t>(n < 0 || !(target_measures[static_cast<std::size_t>(n)] > 0.0));
-    risky[t] = r;
+    unsigned r = 0;
+    for (std::size_t k = 0; k < target.neighbors[t].size(); ++k) {
+      const std::int32_t n = target.neighbors[t][k];
+      r |= unsigned(n < 0 || !(target_measures[static_cast<std::size_t>(n)] > 0.0)) << k;
+    }
+    risky_faces[t] = static_cast<std::uint8_t>(r);
     if constexpr (Dm::d == 3) target_conditioning[t] = detail::conditioning(target.cell(t));
   }
   const typename TreeT::RTree tree(values.begin(), values.end());
@@ -652,7 +656,7 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
   // queries). The order depends on the mesh only: results stay identical for any thread count.
   std::vector<std::int32_t> order, rank;
   morton_order(source, order, rank);
-  const Shared<Mesh> sh{source, target, tree, target_box, risky, target_conditioning, options.keep_polyhedra,
+  const Shared<Mesh> sh{source, target, tree, target_box, risky_faces, target_conditioning, options.keep_polyhedra,
                         options.keep_mixed_mass, state, parent, piece_begin, piece_count, order, rank};
 
   // Chunks of consecutive positions in that order; their number depends on the mesh only.
