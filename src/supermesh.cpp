@@ -13,27 +13,29 @@
 // a chunk of consecutive positions along a Morton curve through the cell centroids (a compact
 // region whatever the file's numbering). For each source cell s:
 //
-//   1. Seeds: the targets of s's BFS parent (processed, same chunk), tried one at a time; each
-//      one found positive starts a flood fill: a target t positive with s queues its face
-//      neighbours across the faces of t that s may cross. In 3D these are the faces on which
-//      the kernel's polytope s n t has a facet (OneToMany::moments: where int(s) meets the
-//      interior of a face, s n t has a facet there, so without one no path inside s crosses
-//      it); otherwise (kept polyhedra or mixed mass, a reference too flat for its signs to be
-//      certain, and in 2D) the faces whose plane does not have all of s strictly on t's side
-//      (certified with orient3d's error bound: the neighbour meets s with zero volume). A target
-//      tested zero queues nothing. Seeding stops once s is covered (the volumes found add up
-//      to |s| to 1e-12).
-//   2. Not covered yet: the targets of every processed neighbour of s and their neighbours
-//      (this crosses zero-volume contacts: for identical or face-sharing meshes the parent's
-//      targets only touch s, and it is their neighbours that intersect it), flood again.
+//   1. Seeds: the targets of s's BFS parent (processed, same chunk), tried one at a time
+//      (first those whose box holds the centre of s's box); each one found positive starts a
+//      flood fill: a target t positive with s queues its face neighbours across the faces of t
+//      that s may cross. In 3D these are the faces on which the kernel's polytope s n t has a
+//      facet (OneToMany::moments: where int(s) meets the interior of a face, s n t has a facet
+//      there, so without one no path inside s crosses it); otherwise (kept polyhedra or mixed
+//      mass, a reference too flat for its signs to be certain, and in 2D) the faces whose plane
+//      does not have all of s strictly on t's side (certified with orient3d's error bound: the
+//      neighbour meets s with zero volume). A target tested zero queues nothing. Seeding stops
+//      once s is covered (the volumes found add up to |s| to 1e-12).
+//   2. Not covered yet, and the flood neither crossed a risky face nor was cut (both below):
+//      the targets of every processed neighbour of s and their neighbours (this crosses
+//      zero-volume contacts: for identical or face-sharing meshes the parent's targets only
+//      touch s, and it is their neighbours that intersect it), flood again.
 //   3. A face of a target is "risky" when it has no neighbour (the boundary, which also covers
-//      non-conforming interior faces) or a flat one (which breaks face connectivity). If the
-//      pieces found do not cover s (this includes a cell with no processed neighbour, the start
-//      of a region), s is tested against every target whose bounding box overlaps its own
-//      (R-tree query), which finds every positive pair by itself. If they cover s but the flood
-//      crossed a risky face (one among the faces a positive target queued its neighbours
-//      across), the targets with a risky face among those, not yet tested, are tested, and each
-//      positive one starts a flood.
+//      non-conforming interior faces) or a flat one (which breaks face connectivity). The
+//      flood crossed a risky face when one is among the faces a positive target queued its
+//      neighbours across; it was cut when a target it queued that way tested zero. If the
+//      flood crossed a risky face and either covered s or was not cut, the targets with a
+//      risky face whose bounding box overlaps s's, not yet tested, are tested, and each
+//      positive one starts a flood. Otherwise, if s is not covered (this includes a cell with no
+//      processed neighbour, the start of a region), s is tested against every target whose
+//      bounding box overlaps its own (R-tree query), which finds every positive pair by itself.
 //
 // Why this finds every pair (s, t) with vol(s n t) > 0. The target cells are a mesh: they do
 // not overlap (several overlapping meshes in one are found completely only by the R-tree
@@ -55,12 +57,21 @@
 // pass is complete by itself. The seeds only decide how often the R-tree is needed (near the
 // target boundary: O(n^(2/3)) cells for meshes of one domain), never what is found;
 // zero-volume contacts never stop the front (a flood that finds nothing falls back to the
-// R-tree). The argument is exact; the kernel decides positivity, and its facets, in floating
-// point, and below the resolution of doubles it can report zero for a sliver the argument walks
-// through, or drop a facet of rounding-sized area. The coverage test catches that: a flood cut
-// short leaves s visibly uncovered (the test found such cases with 1e-12 offsets). Pieces below
-// the resolution (1e-14 of the smaller cell) are dropped in both searches, so front and R-tree
-// return the same pieces.
+// R-tree).
+//
+// The argument is exact; the kernel decides positivity, and its facets, in floating point.
+// Below the resolution of doubles it can report zero for a sliver the argument walks through,
+// or drop a facet of rounding-sized area. A dropped facet can only hide a region cut off from
+// K0 inside s by faces of rounding-sized area; s being convex, one side of such a cut has a
+// volume of that order (a relative isoperimetric inequality), and it is not K0, whose pieces
+// are above the resolution. A sliver reported zero is caught where it can matter: the flood
+// reached it across a face s crosses, so the flood counts as cut, and an uncovered cell then
+// gets the full R-tree pass; for a covered cell the coverage test is the guard (a flood cut
+// short leaves s visibly uncovered; the tests found such cases with 1e-12 offsets). Zero tests
+// across a crossed face also happen without any sliver (a facet of zero area where faces of the
+// two meshes coincide, and always with the plane test's wider mask): they only cost the R-tree
+// pass. Pieces below the resolution (1e-14 of the smaller cell) are dropped in both searches, so
+// front and R-tree return the same pieces.
 //
 // Threads: the chunks (their number depends on the mesh size only) each have their own front
 // and are handed to threads dynamically. Every pair is computed by one kernel call with the
@@ -402,10 +413,12 @@ class Worker {
     stamp_ += 2;
   }
   bool seen(std::int32_t t) const { return mark_[static_cast<std::size_t>(t)] >= stamp_; }
-  void enqueue(std::int32_t t) {
+  // across: queued by the flood, across a face of a positive target that s crosses.
+  void enqueue(std::int32_t t, bool across = false) {
     if (t < 0 || seen(t)) return;
     mark_[static_cast<std::size_t>(t)] = stamp_;
     cand_.push_back(t);
+    across_.push_back(static_cast<std::uint8_t>(across));
   }
 
   // The kernel on (source cell, target cell), appending the piece if its volume is positive.
@@ -457,8 +470,12 @@ class Worker {
   // only what the flood has not.
   void flood(std::int32_t s) {
     while (head_ < cand_.size()) {
+      const bool across = across_[head_] != 0;
       const std::int32_t t = cand_[head_++];
-      if (!test(s, t)) continue;
+      if (!test(s, t)) {
+        cut_ |= across;  // queued across a face s crosses, yet zero: the flood may be cut here
+        continue;
+      }
       // The kernel's own certified signs (see OneToMany::moments), with the plane test where
       // they do not include it.
       const unsigned crossed = crossed_ & detail::OneToMany::kPlanesTested ? crossed_ & 0xFu
@@ -466,7 +483,7 @@ class Worker {
       if (crossed & sh_.risky_faces[static_cast<std::size_t>(t)]) crossed_risky_ = true;
       const auto& nb = sh_.target.neighbors[static_cast<std::size_t>(t)];
       for (std::size_t k = 0; k < nb.size(); ++k)
-        if (crossed >> k & 1u) enqueue(nb[k]);
+        if (crossed >> k & 1u) enqueue(nb[k], true);
     }
   }
 
@@ -478,7 +495,7 @@ class Worker {
       if (mark_[static_cast<std::size_t>(h.second)] != stamp_ + 1) test(s, h.second);
   }
 
-  // For a covered s that crossed a risky face: the targets with a risky face whose bounding box
+  // For an s whose flood crossed a risky face: the targets with a risky face whose bounding box
   // overlaps s's, not yet tested, each a seed for a flood (see "Why this finds every pair").
   void risky_pass(std::int32_t s) {
     hits_.clear();
@@ -491,6 +508,8 @@ class Worker {
   void begin_cell(std::int32_t s) {
     next_stamp();
     cand_.clear();
+    across_.clear();
+    cut_ = false;
     head_ = 0;
     crossed_risky_ = false;
     covered_ = 0.0;
@@ -524,17 +543,29 @@ class Worker {
     bool complete = false;
     if (p >= 0) {
       // Step 1: the parent's targets, one at a time until the flood from the positive ones
-      // covers s (many of them do not meet s: not testing them saves kernel calls).
+      // covers s (many of them do not meet s: not testing them saves kernel calls). First those
+      // whose box holds the centre of s's box, the likeliest to meet s.
       const std::size_t b = sh_.piece_begin[static_cast<std::size_t>(p)];
       const std::size_t e = b + sh_.piece_count[static_cast<std::size_t>(p)];
-      for (std::size_t i = b; i < e && !complete; ++i) {
-        const std::int32_t t = pieces_[i].target;  // by index: test() appends to pieces_
-        if (seen(t)) continue;
-        enqueue(t);
-        flood(s);
-        complete = covered();
+      std::array<double, Dm::d> centre;
+      for (std::size_t k = 0; k < Dm::d; ++k) centre[k] = 0.5 * (sbox_.lo[k] + sbox_.hi[k]);
+      for (int pass = 0; pass < 2; ++pass) {
+        for (std::size_t i = b; i < e && !complete; ++i) {
+          const std::int32_t t = pieces_[i].target;  // by index: test() appends to pieces_
+          if (seen(t)) continue;
+          if (pass == 0) {
+            const auto& tb = sh_.target_box[static_cast<std::size_t>(t)];
+            bool holds = true;
+            for (std::size_t k = 0; k < Dm::d; ++k) holds &= (tb.lo[k] <= centre[k]) & (centre[k] <= tb.hi[k]);
+            if (!holds) continue;
+          }
+          enqueue(t);
+          flood(s);
+          complete = covered();
+        }
       }
-      if (!complete) {
+      // A flood that crossed a risky face, and was not cut, has found its component (below).
+      if (!complete && !(crossed_risky_ && !cut_)) {
         // Step 2: all processed neighbours' targets and their neighbours.
         for (const std::int32_t q : sh_.source.neighbors[static_cast<std::size_t>(s)])
           if (in_chunk(q, ch) && sh_.state[static_cast<std::size_t>(q)] == 2) enqueue_targets_of(q);
@@ -542,10 +573,11 @@ class Worker {
         complete = covered();
       }
     }
-    // Step 3: at risk. Not covered: every candidate. Covered, but a risky face was crossed:
-    // only the other components of O can hold pieces, and each holds a target with a risky face.
-    if (!complete) rtree_pass(s);
-    else if (crossed_risky_) risky_pass(s);
+    // Step 3: at risk. A flood that crossed a risky face and was not cut (or covered s): only
+    // the other components of O can hold pieces, and each holds a target with a risky face.
+    // Otherwise, not covered: every candidate.
+    if (crossed_risky_ && (complete || !cut_)) risky_pass(s);
+    else if (!complete) rtree_pass(s);
     end_cell(s);
   }
 
@@ -553,6 +585,8 @@ class Worker {
   std::vector<std::uint32_t> mark_;
   std::uint32_t stamp_ = 0;
   std::vector<std::int32_t> cand_, queue_;
+  std::vector<std::uint8_t> across_;  // parallel to cand_: see enqueue
+  bool cut_ = false;                   // a candidate queued across a crossed face tested zero
   std::size_t head_ = 0;
   std::vector<typename TreeT::Value> hits_;
   std::vector<Piece> pieces_;
