@@ -1,6 +1,6 @@
 // src/barycentric_map.hpp -- the change of coordinates of Section 2 (internal to the library).
 //
-// BarycentricMap(r, det6) maps points to barycentric coordinates in tetrahedron r, with the
+// BarycentricMap(r, 1 / det6) maps points to barycentric coordinates in tetrahedron r, with the
 // exact snapping described below. Used by the kernel (src/tet_intersection.cpp) for the
 // reference tetrahedron, and kept by callers that intersect one tetrahedron with many
 // (src/one_to_many.hpp), so that a tetrahedron's map is built once. Inline, allocation-free.
@@ -50,8 +50,9 @@ struct BarycentricMap {
 
   static constexpr double kErrBound = (7.0 + 56.0 * 0x1p-53) * 0x1p-53;
 
-  BarycentricMap(const Tet& r, double det6) {
-    const double inv = 1.0 / det6;
+  // inv_det6: 1 / det[r1 - r0, r2 - r0, r3 - r0] (Conditioning::inv_det6).
+  BarycentricMap(const Tet& r, double inv_det6) {
+    const double inv = inv_det6;
 #if TETIA_KERNEL_SSE2
     // The loop below for faces (0, 1) and (2, 3) at once: first vertices (r1, r0), (r0, r0),
     // second (r2, r2), (r1, r1), third (r3, r3), (r3, r2) (kMapFaceVerts).

@@ -17,10 +17,12 @@ namespace tetia::detail {
 
 /// What the kernel uses to choose the reference tetrahedron (src/tet_intersection.cpp,
 /// make_frame): the shape quality |det| / (sum of squared edge lengths)^(3/2), and det6, six
-/// times the signed volume.
+/// times the signed volume, with its inverse (computed alongside the quality, off the path from
+/// the choice of the reference to its map).
 struct Conditioning {
   double quality = 0.0;
   double det6 = 0.0;
+  double inv_det6 = 0.0;  // 1 / det6, the scale of the barycentric map (BarycentricMap)
 };
 
 /// The conditioning of t, computed as the kernel computes it for each pair.

@@ -205,7 +205,7 @@ unsigned faces_crossed(const Tet& T, const Tet& S);
 // mixed mass, or OneToMany could not certify them).
 unsigned faces_crossed(const Tet& T, const detail::Conditioning& ct, const Tet& S) {
   if (!(ct.quality > detail::kSignCertainQuality)) return faces_crossed(T, S);
-  const detail::BarycentricMap map(T, ct.det6);
+  const detail::BarycentricMap map(T, ct.inv_det6);
   double c[4][4];
   for (int i = 0; i < 4; ++i) map(S[static_cast<std::size_t>(i)], c[i]);
   unsigned inside = 0xFu;  // bit k: all four have coordinate k > 0

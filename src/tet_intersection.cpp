@@ -1346,8 +1346,10 @@ double shape_quality(const Tet& t, double& det6) {
 #endif
 
 // shape_quality of U and V at once: the same operations in the same order, U in the low lane
-// and V in the high one.
-void shape_qualities(const Tet& U, const Tet& V, double& qU, double& detU, double& qV, double& detV) {
+// and V in the high one; with 1 / det6 of each, which the barycentric map of the one chosen as
+// the reference needs (the same division, done here in parallel with the quality's instead of
+// after the choice).
+void shape_qualities(const Tet& U, const Tet& V, Conditioning& cu, Conditioning& cv) {
 #if TETIA_KERNEL_SSE2
   __m128d x[4], y[4], z[4];
   static_assert(sizeof(Vec3) == 3 * sizeof(double) && offsetof(Vec3, y) == sizeof(double));
@@ -1377,13 +1379,17 @@ void shape_qualities(const Tet& U, const Tet& V, double& qU, double& detU, doubl
   s = _mm_add_pd(s, dot2(e5, e5));
   s = _mm_add_pd(s, dot2(e6, e6));
   const __m128d q = _mm_div_pd(_mm_andnot_pd(_mm_set1_pd(-0.0), det6), _mm_mul_pd(s, _mm_sqrt_pd(s)));
-  double qq[2], dd[2];
+  const __m128d inv = _mm_div_pd(_mm_set1_pd(1.0), det6);
+  double qq[2], dd[2], ii[2];
   _mm_storeu_pd(qq, q);
   _mm_storeu_pd(dd, det6);
-  qU = qq[0], qV = qq[1], detU = dd[0], detV = dd[1];
+  _mm_storeu_pd(ii, inv);
+  cu.quality = qq[0], cv.quality = qq[1], cu.det6 = dd[0], cv.det6 = dd[1], cu.inv_det6 = ii[0], cv.inv_det6 = ii[1];
 #else
-  qU = shape_quality(U, detU);
-  qV = shape_quality(V, detV);
+  cu.quality = shape_quality(U, cu.det6);
+  cv.quality = shape_quality(V, cv.det6);
+  cu.inv_det6 = 1.0 / cu.det6;
+  cv.inv_det6 = 1.0 / cv.det6;
 #endif
 }
 
@@ -1413,14 +1419,14 @@ bool frame_from(const Tet& U, const Conditioning& cu, const BarycentricMap* map_
   use_u = use_u != other_reference;
   fr.swapped = use_u;
   const Tet* const both[2] = {&U, &V};  // indexed, not branched on: the choice is data
-  const double dets[2] = {cu.det6, cv.det6};
+  const double dets[2] = {cu.det6, cv.det6}, invs[2] = {cu.inv_det6, cv.inv_det6};
   fr.sub = both[use_u];
   fr.ref = both[!use_u];
   fr.det6 = dets[!use_u];
   if (use_u && map_u) {
     for (int i = 0; i < 4; ++i) (*map_u)((*fr.sub)[i], fr.C[i]);
   } else {
-    const BarycentricMap bary(*fr.ref, fr.det6);
+    const BarycentricMap bary(*fr.ref, invs[!use_u]);
     for (int i = 0; i < 4; ++i) bary((*fr.sub)[i], fr.C[i]);
   }
   // The sum of 0 * coordinate stays 0 unless a coordinate is infinite or NaN (in any order).
@@ -1443,7 +1449,7 @@ bool frame_from(const Tet& U, const Conditioning& cu, const BarycentricMap* map_
 // Returns false for flat or non-finite input: the intersection is then empty.
 bool make_frame(const Tet& U, const Tet& V, Frame& fr, bool other_reference = false) {
   Conditioning cu, cv;
-  shape_qualities(U, V, cu.quality, cu.det6, cv.quality, cv.det6);
+  shape_qualities(U, V, cu, cv);
   return frame_from(U, cu, nullptr, V, cv, fr, other_reference);
 }
 
@@ -1558,11 +1564,11 @@ Moments original_moments(const Frame& fr, const KernelResult& res) {
 
 Conditioning conditioning(const Tet& t) {
   Conditioning c, unused;  // both lanes compute t: lane for lane what a pair computes
-  shape_qualities(t, t, c.quality, c.det6, unused.quality, unused.det6);
+  shape_qualities(t, t, c, unused);
   return c;
 }
 
-OneToMany::OneToMany(const Tet& s) : s_(s), cs_(conditioning(s)), map_(s, cs_.det6) {}
+OneToMany::OneToMany(const Tet& s) : s_(s), cs_(conditioning(s)), map_(s, cs_.inv_det6) {}
 
 Moments OneToMany::moments(const Tet& t, const Conditioning& ct, unsigned* t_faces) const {
   Frame fr;
@@ -1714,7 +1720,7 @@ struct PolyhedronBuilder {
           for (int p = 0; p < 4; ++p) b[p] = rc.weights[p];  // X is V: its weights are V's coordinates
         } else {
           if (!have_bary_v) {
-            new (&bary_v.map) detail::BarycentricMap(V, orient3d(V[0], V[1], V[2], V[3]));
+            new (&bary_v.map) detail::BarycentricMap(V, 1.0 / orient3d(V[0], V[1], V[2], V[3]));
             have_bary_v = true;
           }
           bary_v.map(out.point, b);
