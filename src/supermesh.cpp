@@ -605,8 +605,6 @@ class Worker {
   std::conditional_t<Dm::d == 3, std::optional<detail::OneToMany>, std::monostate> one_;
 };
 
-// The visiting order of the source cells: by the Morton code of their centroids (63 / d bits
-// per axis, 21 in 3D and 31 in 2D) in the bounding box of the mesh; `rank` is its inverse.
 // The low 63 / d bits of x, spread to every d-th bit (bit b to bit d * b): with the axes
 // shifted by d - 1 - k and or-ed, the Morton code (axis 0 first at each level).
 template <int d>
@@ -631,6 +629,8 @@ constexpr std::uint64_t spread_bits(std::uint64_t x) {
 static_assert(spread_bits<3>(0x1FFFFF) == 0x1249249249249249ull && spread_bits<3>(0b101) == 0b1000001);
 static_assert(spread_bits<2>(0x7FFFFFFF) == 0x1555555555555555ull && spread_bits<2>(0b11) == 0b101);
 
+// The visiting order of the source cells: by the Morton code of their centroids (63 / d bits
+// per axis, 21 in 3D and 31 in 2D) in the bounding box of the mesh; `rank` is its inverse.
 template <class Mesh>
 void morton_order(const Mesh& source, std::vector<std::int32_t>& order, std::vector<std::int32_t>& rank) {
   using Dm = detail::Dim<Mesh>;
