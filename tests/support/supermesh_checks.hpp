@@ -65,11 +65,6 @@ struct MeshTraits<TriMesh> {
   }
 };
 
-// The kernel resolves intersections above 1e-14 times the larger cell's measure (as in the
-// kernel-vs-exact tests); below it, it may report a tiny positive measure where the exact one is
-// zero, or zero where it is tiny, and the supermesh drops pieces of at most 1e-14 times the
-// smaller cell's measure. Pairs above twice the resolution must be found; pairs of exact measure
-// zero must not be (above the resolution).
 /// Two meshes as one, with separate nodes (two components, a non-conforming interface, or
 /// overlapping cells if the caller wants).
 template <class Mesh>
@@ -84,6 +79,11 @@ Mesh joined(Mesh a, const Mesh& b, const char* name = "joined") {
   return a;
 }
 
+// The kernel resolves intersections above 1e-14 times the larger cell's measure (as in the
+// kernel-vs-exact tests); below it, it may report a tiny positive measure where the exact one is
+// zero, or zero where it is tiny, and the supermesh drops pieces of at most 1e-14 times the
+// smaller cell's measure. Pairs above twice the resolution must be found; pairs of exact measure
+// zero must not be (above the resolution).
 inline constexpr double kResolution = 1e-14;
 
 using PairList = std::vector<std::pair<std::int32_t, std::int32_t>>;  // (target, source)
