@@ -71,6 +71,8 @@
 #include "tetia/remap.hpp"
 #include "tetia/supermesh.hpp"
 
+#include "../src/morton.hpp"  // the library's bit spreading (internal)
+
 #ifndef TETIA_SHARED_DIR
 #define TETIA_SHARED_DIR "../shared"
 #endif
@@ -321,15 +323,7 @@ double mesh_bytes(const tetia::TetMesh& m) {
 // The cells of `m` sorted by the Morton code (21 bits per axis) of their centroids within the
 // box [lo, hi], nodes renumbered in order of first use; finalized again.
 tetia::TetMesh morton_sorted(const tetia::TetMesh& m, tetia::Vec3 lo, tetia::Vec3 hi) {
-  const auto spread = [](std::uint64_t x) {  // 21 bits to every third bit
-    x &= 0x1FFFFFULL;
-    x = (x | x << 32) & 0x1F00000000FFFFULL;
-    x = (x | x << 16) & 0x1F0000FF0000FFULL;
-    x = (x | x << 8) & 0x100F00F00F00F00FULL;
-    x = (x | x << 4) & 0x10C30C30C30C30C3ULL;
-    x = (x | x << 2) & 0x1249249249249249ULL;
-    return x;
-  };
+  const auto spread = tetia::detail::spread_bits<3>;  // 21 bits to every third bit
   const auto quant = [](double v, double a, double b) {
     const double t = (v - a) / (b - a) * 2097151.0;
     return static_cast<std::uint64_t>(std::clamp(t, 0.0, 2097151.0));

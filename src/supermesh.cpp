@@ -110,6 +110,7 @@
 
 #include "dimension.hpp"
 #include "mixed_mass.hpp"
+#include "morton.hpp"
 #include "one_to_many.hpp"
 #include "tetia/tet_intersection.hpp"
 #include "tetia/tri_intersection.hpp"
@@ -605,30 +606,6 @@ class Worker {
   std::conditional_t<Dm::d == 3, std::optional<detail::OneToMany>, std::monostate> one_;
 };
 
-// The low 63 / d bits of x, spread to every d-th bit (bit b to bit d * b): with the axes
-// shifted by d - 1 - k and or-ed, the Morton code (axis 0 first at each level).
-template <int d>
-constexpr std::uint64_t spread_bits(std::uint64_t x) {
-  if constexpr (d == 3) {
-    x &= 0x1FFFFFu;
-    x = (x | x << 32) & 0x1F00000000FFFFull;
-    x = (x | x << 16) & 0x1F0000FF0000FFull;
-    x = (x | x << 8) & 0x100F00F00F00F00Full;
-    x = (x | x << 4) & 0x10C30C30C30C30C3ull;
-    x = (x | x << 2) & 0x1249249249249249ull;
-  } else {
-    x &= 0x7FFFFFFFu;
-    x = (x | x << 16) & 0x0000FFFF0000FFFFull;
-    x = (x | x << 8) & 0x00FF00FF00FF00FFull;
-    x = (x | x << 4) & 0x0F0F0F0F0F0F0F0Full;
-    x = (x | x << 2) & 0x3333333333333333ull;
-    x = (x | x << 1) & 0x5555555555555555ull;
-  }
-  return x;
-}
-static_assert(spread_bits<3>(0x1FFFFF) == 0x1249249249249249ull && spread_bits<3>(0b101) == 0b1000001);
-static_assert(spread_bits<2>(0x7FFFFFFF) == 0x1555555555555555ull && spread_bits<2>(0b11) == 0b101);
-
 // The visiting order of the source cells: by the Morton code of their centroids (63 / d bits
 // per axis, 21 in 3D and 31 in 2D) in the bounding box of the mesh; `rank` is its inverse.
 template <class Mesh>
@@ -660,7 +637,7 @@ void morton_order(const Mesh& source, std::vector<std::int32_t>& order, std::vec
       const double f = extent > 0.0 ? (centre - all.lo[i]) / extent : 0.0;
       q[i] = static_cast<std::uint64_t>(std::clamp(f, 0.0, 1.0) * top);
     }
-    for (int k = 0; k < d; ++k) key |= spread_bits<d>(q[k]) << (d - 1 - k);  // bit b of axis k at d * b + d - 1 - k
+    for (int k = 0; k < d; ++k) key |= detail::spread_bits<d>(q[k]) << (d - 1 - k);  // bit b of axis k at d * b + d - 1 - k
     keys[c] = {key, static_cast<std::int32_t>(c)};
   }
   std::sort(keys.begin(), keys.end());
