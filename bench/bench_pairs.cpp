@@ -67,14 +67,8 @@ bool check_agreement() {
   tetia::bench::Agreement a{"volume", {"intersection_volume", "intersect", "clip_volume", "pang_volume"},
                             {0.0, 0.0, 0.0, 0.0}, 0.0, 0, ps.size(), tetia::bench::kSeed};
   for (const TetPair& p : ps) {
-    const double v = tetia::intersection_volume(p.U, p.V);
-    const double c = tetia::baselines::clip_volume(p.U, p.V);
-    a.sums[0] += v;
-    a.sums[1] += tetia::intersect(p.U, p.V).volume();
-    a.sums[2] += c;
-    a.sums[3] += tetia::baselines::pang_volume(p.U, p.V);
-    a.max_abs_diff = std::max(a.max_abs_diff, std::abs(v - c));
-    if (v > 0.0) ++a.nonempty;
+    a.add(tetia::intersection_volume(p.U, p.V), tetia::intersect(p.U, p.V).volume(), tetia::baselines::clip_volume(p.U, p.V),
+          tetia::baselines::pang_volume(p.U, p.V));
   }
   return tetia::bench::report_agreement(a);
 }

@@ -90,14 +90,8 @@ bool check_agreement() {
   tetia::bench::Agreement a{"area", {"intersection_area", "intersect", "clip_area", "pang_area"},
                             {0.0, 0.0, 0.0, 0.0}, 0.0, 0, ps.size(), kSeed};
   for (const TriPair& p : ps) {
-    const double v = tetia::intersection_area(p.A, p.B);
-    const double c = tetia::baselines::clip_area(p.A, p.B);
-    a.sums[0] += v;
-    a.sums[1] += tetia::intersect(p.A, p.B).area();
-    a.sums[2] += c;
-    a.sums[3] += tetia::baselines::pang_area(p.A, p.B);
-    a.max_abs_diff = std::max(a.max_abs_diff, std::abs(v - c));
-    if (v > 0.0) ++a.nonempty;
+    a.add(tetia::intersection_area(p.A, p.B), tetia::intersect(p.A, p.B).area(), tetia::baselines::clip_area(p.A, p.B),
+          tetia::baselines::pang_area(p.A, p.B));
   }
   return tetia::bench::report_agreement(a);
 }

@@ -52,6 +52,16 @@ struct Agreement {
   long nonempty;
   std::size_t pairs;
   std::uint64_t seed;
+
+  /// Adds one pair: the fast path, intersect, the clipper and PANG, in that order.
+  void add(double fast, double full, double clip, double pang) {
+    sums[0] += fast;
+    sums[1] += full;
+    sums[2] += clip;
+    sums[3] += pang;
+    max_abs_diff = std::max(max_abs_diff, std::abs(fast - clip));
+    if (fast > 0.0) ++nonempty;
+  }
 };
 
 /// Prints the totals; returns false when the fast path and the clipper disagree by more than
