@@ -172,17 +172,19 @@ struct Tree {
 
 template <class Mesh>
 Box<detail::Dim<Mesh>::d> box_of(const typename detail::Dim<Mesh>::Cell& t) {
-  using Dm = detail::Dim<Mesh>;
-  Box<Dm::d> b;
-  for (int k = 0; k < Dm::d; ++k) {
-    const auto i = static_cast<std::size_t>(k);
-    b.lo[i] = b.hi[i] = Dm::coord(t[0], k);
-    for (std::size_t v = 1; v < t.size(); ++v) {
-      b.lo[i] = std::min(b.lo[i], Dm::coord(t[v], k));
-      b.hi[i] = std::max(b.hi[i], Dm::coord(t[v], k));
-    }
+  // Written out per axis (min and max are exact: any order gives the same box); the front
+  // computes it for every candidate.
+  const auto lo = [](double a, double b) { return b < a ? b : a; };
+  const auto hi = [](double a, double b) { return a < b ? b : a; };
+  if constexpr (detail::Dim<Mesh>::d == 3) {
+    return {{lo(lo(t[0].x, t[1].x), lo(t[2].x, t[3].x)), lo(lo(t[0].y, t[1].y), lo(t[2].y, t[3].y)),
+             lo(lo(t[0].z, t[1].z), lo(t[2].z, t[3].z))},
+            {hi(hi(t[0].x, t[1].x), hi(t[2].x, t[3].x)), hi(hi(t[0].y, t[1].y), hi(t[2].y, t[3].y)),
+             hi(hi(t[0].z, t[1].z), hi(t[2].z, t[3].z))}};
+  } else {
+    return {{lo(lo(t[0].x, t[1].x), t[2].x), lo(lo(t[0].y, t[1].y), t[2].y)},
+            {hi(hi(t[0].x, t[1].x), t[2].x), hi(hi(t[0].y, t[1].y), t[2].y)}};
   }
-  return b;
 }
 
 /// Interiors of the boxes overlap (necessary for an intersection of positive volume).
@@ -310,26 +312,51 @@ struct alignas(64) Chunk {  // aligned: threads fill neighbouring chunks
   std::size_t candidates = 0;
 };
 
+// What the front reads of a target cell besides its vertices, in one record. The records are
+// stored in the Morton order of the target centroids, and the front names targets by their
+// position there (as it marks them): the targets a source cell meets, and their neighbours,
+// then lie close in memory whatever the file's numbering (spatially arbitrary for TetGen
+// meshes). The vertices stay in the mesh: copying them too made the pyramid x cube benchmark
+// 2 % faster still, but doubled the memory first touched per call, which cost more than that
+// on the development VM (about 12 us per page fault) for single runs and mid-sized meshes.
+template <class Mesh>
+struct TargetCell {
+  using Dm = detail::Dim<Mesh>;
+  // 3D: the conditioning, computed once (see src/one_to_many.hpp).
+  std::conditional_t<Dm::d == 3, detail::Conditioning, std::monostate> conditioning;
+  double measure;
+  std::array<std::int32_t, Dm::nv> neighbors;  // positions of the neighbours across each facet, -1 none
+  std::int32_t id;                              // the cell's index in the target mesh
+  std::uint8_t risky_faces;                     // bit k: face k has no neighbour, or a flat one
+};
+
+// The same for a source cell, stored in the visiting order (Morton order of the centroids).
+template <class Mesh>
+struct SourceCell {
+  using Dm = detail::Dim<Mesh>;
+  double measure;
+  std::array<std::int32_t, Dm::nv> neighbors;  // positions of the neighbours across each facet, -1 none
+  std::int32_t id;                              // the cell's index in the source mesh
+};
+
 template <class Mesh>
 struct Shared {
   using Dm = detail::Dim<Mesh>;
   const Mesh& source;
   const Mesh& target;
   const typename Tree<Dm::d>::RTree& tree;
-  const std::vector<Box<Dm::d>>& target_box;
-  const std::vector<std::uint8_t>& risky_faces;  // bit k: face k has no neighbour, or a flat one
-  // 3D: each target's conditioning, computed once (see src/one_to_many.hpp); empty in 2D.
-  const std::vector<detail::Conditioning>& target_conditioning;
   bool keep_shapes;  // keep the polyhedra (polygons)
   bool keep_mass;    // keep each piece's local mixed mass matrix
-  // Per source cell, written only by the thread that owns its chunk.
+  // The target cells in Morton order and the source cells in their visiting order; the front
+  // and the R-tree name cells by their positions there, and pieces carry these positions until
+  // the final merge, which writes the cells' indices.
+  const std::vector<TargetCell<Mesh>>& targets;
+  const std::vector<SourceCell<Mesh>>& sources;
+  // Per source cell (position), written only by the thread that owns its chunk.
   std::vector<std::uint8_t>& state;  // 0 unvisited, 1 queued, 2 done
   std::vector<std::int32_t>& parent;
   std::vector<std::size_t>& piece_begin;  // into its worker's pieces
   std::vector<std::size_t>& piece_count;
-  // The visiting order of the source cells (Morton order of their centroids) and its inverse.
-  const std::vector<std::int32_t>& order;
-  const std::vector<std::int32_t>& rank;
 };
 
 // Per-thread work space, reused across chunks and cells. The pieces (and polyhedra, local mixed
@@ -347,8 +374,8 @@ class Worker {
   // The pieces' storage is reserved for this thread's share of a typical count (between 2.6
   // and 9 pieces per cell of both meshes in the benchmarks): address space only until written,
   // and growing it by copying is then rare.
-  Worker(const Shared<Mesh>& sh, int threads) : sh_(sh), mark_(sh.target.num_cells(), 0) {
-    const std::size_t cells = sh.source.num_cells() + sh.target.num_cells();
+  Worker(const Shared<Mesh>& sh, int threads) : sh_(sh), mark_(sh.targets.size(), 0) {
+    const std::size_t cells = sh.sources.size() + sh.targets.size();
     reserve_huge(pieces_, std::min<std::size_t>(10 * cells / static_cast<std::size_t>(threads), std::size_t{1} << 26));
   }
 
@@ -361,8 +388,7 @@ class Worker {
     ch.first = pieces_.size();
     candidates_ = 0;
     if (search == CandidateSearch::rtree) {
-      for (std::int32_t pos = ch.begin; pos < ch.end; ++pos) {
-        const std::int32_t s = sh_.order[static_cast<std::size_t>(pos)];
+      for (std::int32_t s = ch.begin; s < ch.end; ++s) {
         begin_cell(s);
         rtree_pass(s);
         end_cell(s);
@@ -376,16 +402,11 @@ class Worker {
 
  private:
   // Is source cell n (or -1, no cell) in the chunk, a range of positions in the visiting order?
-  bool in_chunk(std::int32_t n, const Chunk& ch) const {
-    if (n < 0) return false;
-    const std::int32_t r = sh_.rank[static_cast<std::size_t>(n)];
-    return r >= ch.begin && r < ch.end;
-  }
+  static bool in_chunk(std::int32_t n, const Chunk& ch) { return n >= ch.begin && n < ch.end; }
 
   void run_front(const Chunk& ch) {
     queue_.clear();
-    for (std::int32_t pos = ch.begin; pos < ch.end; ++pos) {
-      const std::int32_t start = sh_.order[static_cast<std::size_t>(pos)];
+    for (std::int32_t start = ch.begin; start < ch.end; ++start) {
       if (sh_.state[static_cast<std::size_t>(start)] != 0) continue;
       sh_.state[static_cast<std::size_t>(start)] = 1;
       sh_.parent[static_cast<std::size_t>(start)] = -1;
@@ -394,7 +415,7 @@ class Worker {
         const std::int32_t s = queue_[head];
         process_front(s, ch);
         sh_.state[static_cast<std::size_t>(s)] = 2;
-        for (const std::int32_t n : sh_.source.neighbors[static_cast<std::size_t>(s)]) {
+        for (const std::int32_t n : sh_.sources[static_cast<std::size_t>(s)].neighbors) {
           if (!in_chunk(n, ch) || sh_.state[static_cast<std::size_t>(n)] != 0) continue;
           sh_.state[static_cast<std::size_t>(n)] = 1;
           sh_.parent[static_cast<std::size_t>(n)] = s;
@@ -426,10 +447,11 @@ class Worker {
   bool test(std::int32_t s, std::int32_t t) {
     mark_[static_cast<std::size_t>(t)] = stamp_ + 1;
     crossed_ = 0xFu;
-    if (!overlap_open(sbox_, sh_.target_box[static_cast<std::size_t>(t)])) return false;
+    const TargetCell<Mesh>& rec = sh_.targets[static_cast<std::size_t>(t)];
+    T_ = target_cell(t);
+    if (!overlap_open(sbox_, box_of<Mesh>(T_))) return false;
     ++candidates_;
-    T_ = sh_.target.cell(static_cast<std::size_t>(t));
-    const double floor = kResolution * std::min(svol_, Dm::measures(sh_.target)[static_cast<std::size_t>(t)]);
+    const double floor = kResolution * std::min(svol_, rec.measure);
     typename Dm::Moments m;
     if (sh_.keep_shapes || sh_.keep_mass) {
       shape_ = intersect(S_, T_);
@@ -448,7 +470,7 @@ class Worker {
       // In 3D with what depends on s or t alone computed once (bit for bit the same moments).
       if constexpr (Dm::d == 3) {
         if (!one_) one_.emplace(S_);  // on the first candidate: many cells (outside the target) have none
-        m = one_->moments(T_, sh_.target_conditioning[static_cast<std::size_t>(t)], &crossed_);
+        m = one_->moments(T_, rec.conditioning, &crossed_);
       }
       else m = intersection_moments(S_, T_);
       if (!(Dm::measure(m) > floor)) return false;
@@ -459,9 +481,14 @@ class Worker {
     return true;
   }
 
+  // The vertices of the target at position t.
+  Cell target_cell(std::int32_t t) const {
+    return sh_.target.cell(static_cast<std::size_t>(sh_.targets[static_cast<std::size_t>(t)].id));
+  }
+
   // faces_crossed(T_, S_) for target t (in 3D through its map).
   unsigned plane_test(std::int32_t t) const {
-    if constexpr (Dm::d == 3) return faces_crossed(T_, sh_.target_conditioning[static_cast<std::size_t>(t)], S_);
+    if constexpr (Dm::d == 3) return faces_crossed(T_, sh_.targets[static_cast<std::size_t>(t)].conditioning, S_);
     else return faces_crossed(T_, S_);
   }
 
@@ -481,8 +508,9 @@ class Worker {
       // they do not include it.
       const unsigned crossed = crossed_ & detail::OneToMany::kPlanesTested ? crossed_ & 0xFu
                                                                             : crossed_ & plane_test(t);
-      if (crossed & sh_.risky_faces[static_cast<std::size_t>(t)]) crossed_risky_ = true;
-      const auto& nb = sh_.target.neighbors[static_cast<std::size_t>(t)];
+      const TargetCell<Mesh>& rec = sh_.targets[static_cast<std::size_t>(t)];
+      if (crossed & rec.risky_faces) crossed_risky_ = true;
+      const auto& nb = rec.neighbors;
       for (std::size_t k = 0; k < nb.size(); ++k)
         if (crossed >> k & 1u) enqueue(nb[k], true);
     }
@@ -502,7 +530,7 @@ class Worker {
     hits_.clear();
     sh_.tree.query(bgi::intersects(TreeT::bbox(sbox_)), std::back_inserter(hits_));
     for (const auto& h : hits_)
-      if (sh_.risky_faces[static_cast<std::size_t>(h.second)]) enqueue(h.second);
+      if (sh_.targets[static_cast<std::size_t>(h.second)].risky_faces) enqueue(h.second);
     flood(s);
   }
 
@@ -514,9 +542,10 @@ class Worker {
     head_ = 0;
     crossed_risky_ = false;
     covered_ = 0.0;
-    S_ = sh_.source.cell(static_cast<std::size_t>(s));
+    const SourceCell<Mesh>& rec = sh_.sources[static_cast<std::size_t>(s)];
+    S_ = sh_.source.cell(static_cast<std::size_t>(rec.id));
     if constexpr (Dm::d == 3) one_.reset();
-    svol_ = Dm::measures(sh_.source)[static_cast<std::size_t>(s)];
+    svol_ = rec.measure;
     sbox_ = box_of<Mesh>(S_);
     sh_.piece_begin[static_cast<std::size_t>(s)] = pieces_.size();
   }
@@ -531,7 +560,7 @@ class Worker {
     for (std::size_t i = b; i < e; ++i) {
       const std::int32_t t = pieces_[i].target;
       enqueue(t);
-      for (const std::int32_t n : sh_.target.neighbors[static_cast<std::size_t>(t)]) enqueue(n);
+      for (const std::int32_t n : sh_.targets[static_cast<std::size_t>(t)].neighbors) enqueue(n);
     }
   }
 
@@ -555,7 +584,7 @@ class Worker {
           const std::int32_t t = pieces_[i].target;  // by index: test() appends to pieces_
           if (seen(t)) continue;
           if (pass == 0) {
-            const auto& tb = sh_.target_box[static_cast<std::size_t>(t)];
+            const auto tb = box_of<Mesh>(target_cell(t));
             bool holds = true;
             for (std::size_t k = 0; k < Dm::d; ++k) holds &= (tb.lo[k] <= centre[k]) & (centre[k] <= tb.hi[k]);
             if (!holds) continue;
@@ -568,7 +597,7 @@ class Worker {
       // A flood that crossed a risky face, and was not cut, has found its component (below).
       if (!complete && !(crossed_risky_ && !cut_)) {
         // Step 2: all processed neighbours' targets and their neighbours.
-        for (const std::int32_t q : sh_.source.neighbors[static_cast<std::size_t>(s)])
+        for (const std::int32_t q : sh_.sources[static_cast<std::size_t>(s)].neighbors)
           if (in_chunk(q, ch) && sh_.state[static_cast<std::size_t>(q)] == 2) enqueue_targets_of(q);
         flood(s);
         complete = covered();
@@ -606,6 +635,25 @@ class Worker {
   std::conditional_t<Dm::d == 3, std::optional<detail::OneToMany>, std::monostate> one_;
 };
 
+// Sorts (key, index) pairs by key, stably: pairs made in increasing index order come out as
+// std::sort would sort them. LSD radix sort on 11-bit digits (six passes for 64 bits, a digit
+// that all keys share is skipped), linear in the number of cells.
+void sort_by_key(std::vector<std::pair<std::uint64_t, std::int32_t>>& a) {
+  constexpr int kBits = 11;
+  constexpr std::size_t kBuckets = std::size_t{1} << kBits;
+  std::vector<std::pair<std::uint64_t, std::int32_t>> b(a.size());
+  std::vector<std::size_t> count(kBuckets);
+  for (int shift = 0; shift < 64; shift += kBits) {
+    std::fill(count.begin(), count.end(), 0);
+    for (const auto& x : a) ++count[(x.first >> shift) & (kBuckets - 1)];
+    if (std::find(count.begin(), count.end(), a.size()) != count.end()) continue;
+    std::size_t sum = 0;
+    for (std::size_t& c : count) sum += std::exchange(c, sum);
+    for (const auto& x : a) b[count[(x.first >> shift) & (kBuckets - 1)]++] = x;
+    a.swap(b);
+  }
+}
+
 // The visiting order of the source cells: by the Morton code of their centroids (63 / d bits
 // per axis, 21 in 3D and 31 in 2D) in the bounding box of the mesh; `rank` is its inverse.
 template <class Mesh>
@@ -640,7 +688,7 @@ void morton_order(const Mesh& source, std::vector<std::int32_t>& order, std::vec
     for (int k = 0; k < d; ++k) key |= detail::spread_bits<d>(q[k]) << (d - 1 - k);  // bit b of axis k at d * b + d - 1 - k
     keys[c] = {key, static_cast<std::int32_t>(c)};
   }
-  std::sort(keys.begin(), keys.end());
+  sort_by_key(keys);
   order.resize(ns);
   rank.resize(ns);
   for (std::size_t i = 0; i < ns; ++i) {
@@ -661,40 +709,61 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
   if (ns == 0 || nt == 0) return out;
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
 
-  // Target bounding boxes, the R-tree (packed: bulk loading), and risky faces.
-  std::vector<Box<Dm::d>> target_box(nt);
-  std::vector<std::uint8_t> risky_faces(nt, 0);
-  std::vector<detail::Conditioning> target_conditioning(Dm::d == 3 ? nt : 0);
+  // The target records in Morton order, and the R-tree (packed: bulk loading) of their boxes.
+  std::vector<TargetCell<Mesh>> targets(nt);
   std::vector<typename TreeT::Value> values(nt);
   const auto nt_i = static_cast<std::int64_t>(nt);
-  const auto& target_measures = Dm::measures(target);
+  {
+    std::vector<std::int32_t> torder, trank;
+    morton_order(target, torder, trank);
+    const auto& target_measures = Dm::measures(target);
 #pragma omp parallel for schedule(static) num_threads(threads)
-  for (std::int64_t i = 0; i < nt_i; ++i) {
-    const auto t = static_cast<std::size_t>(i);
-    target_box[t] = box_of<Mesh>(target.cell(t));
-    values[t] = {TreeT::bbox(target_box[t]), static_cast<std::int32_t>(i)};
-    unsigned r = 0;
-    for (std::size_t k = 0; k < target.neighbors[t].size(); ++k) {
-      const std::int32_t n = target.neighbors[t][k];
-      r |= unsigned(n < 0 || !(target_measures[static_cast<std::size_t>(n)] > 0.0)) << k;
+    for (std::int64_t i = 0; i < nt_i; ++i) {
+      const auto t = static_cast<std::size_t>(torder[static_cast<std::size_t>(i)]);
+      TargetCell<Mesh>& rec = targets[static_cast<std::size_t>(i)];
+      const auto cell = target.cell(t);
+      values[static_cast<std::size_t>(i)] = {TreeT::bbox(box_of<Mesh>(cell)), static_cast<std::int32_t>(i)};
+      unsigned r = 0;
+      for (std::size_t k = 0; k < target.neighbors[t].size(); ++k) {
+        const std::int32_t n = target.neighbors[t][k];
+        r |= unsigned(n < 0 || !(target_measures[static_cast<std::size_t>(n)] > 0.0)) << k;
+        rec.neighbors[k] = n < 0 ? -1 : trank[static_cast<std::size_t>(n)];
+      }
+      rec.risky_faces = static_cast<std::uint8_t>(r);
+      if constexpr (Dm::d == 3) rec.conditioning = detail::conditioning(cell);
+      rec.measure = target_measures[t];
+      rec.id = static_cast<std::int32_t>(t);
     }
-    risky_faces[t] = static_cast<std::uint8_t>(r);
-    if constexpr (Dm::d == 3) target_conditioning[t] = detail::conditioning(target.cell(t));
   }
   const typename TreeT::RTree tree(values.begin(), values.end());
   values = {};
 
-  std::vector<std::uint8_t> state(ns, 0);
-  std::vector<std::int32_t> parent(ns, -1);
-  std::vector<std::size_t> piece_begin(ns, 0), piece_count(ns, 0);
   // Source cells are visited along a space-filling (Morton) curve through their centroids, so
   // that a chunk is a compact region whatever the file's numbering (Gmsh numbers cells in no
   // spatial order; with chunks of consecutive indices the front then degenerates into R-tree
   // queries). The order depends on the mesh only: results stay identical for any thread count.
-  std::vector<std::int32_t> order, rank;
-  morton_order(source, order, rank);
-  const Shared<Mesh> sh{source, target, tree, target_box, risky_faces, target_conditioning, options.keep_polyhedra,
-                        options.keep_mixed_mass, state, parent, piece_begin, piece_count, order, rank};
+  std::vector<SourceCell<Mesh>> sources(ns);
+  {
+    std::vector<std::int32_t> order, rank;
+    morton_order(source, order, rank);
+    const auto ns_i = static_cast<std::int64_t>(ns);
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (std::int64_t i = 0; i < ns_i; ++i) {
+      const auto c = static_cast<std::size_t>(order[static_cast<std::size_t>(i)]);
+      SourceCell<Mesh>& rec = sources[static_cast<std::size_t>(i)];
+      rec.measure = Dm::measures(source)[c];
+      for (std::size_t k = 0; k < rec.neighbors.size(); ++k) {
+        const std::int32_t n = source.neighbors[c][k];
+        rec.neighbors[k] = n < 0 ? -1 : rank[static_cast<std::size_t>(n)];
+      }
+      rec.id = static_cast<std::int32_t>(c);
+    }
+  }
+  std::vector<std::uint8_t> state(ns, 0);
+  std::vector<std::int32_t> parent(ns, -1);
+  std::vector<std::size_t> piece_begin(ns, 0), piece_count(ns, 0);
+  const Shared<Mesh> sh{source, target, tree, options.keep_polyhedra, options.keep_mixed_mass,
+                        targets, sources, state, parent, piece_begin, piece_count};
 
   // Chunks of consecutive positions in that order; their number depends on the mesh only.
   constexpr std::size_t kChunkCells = 4096;
@@ -722,13 +791,20 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
     std::int32_t worker;
     std::size_t index;
   };
+  // Pieces name their cells by their positions among the records until here.
+  const auto target_id = [&](const typename Dm::Piece& p) { return targets[static_cast<std::size_t>(p.target)].id; };
+  const auto with_ids = [&](typename Dm::Piece p) {
+    p.source = sources[static_cast<std::size_t>(p.source)].id;
+    p.target = targets[static_cast<std::size_t>(p.target)].id;
+    return p;
+  };
   std::vector<std::size_t> offset(nt + 1, 0);
   std::size_t total = 0;
   for (const Chunk& ch : chunks) {
     out.candidates += ch.candidates;
     total += ch.last - ch.first;
     const auto& pcs = workers[static_cast<std::size_t>(ch.worker)]->pieces();
-    for (std::size_t i = ch.first; i < ch.last; ++i) ++offset[static_cast<std::size_t>(pcs[i].target) + 1];
+    for (std::size_t i = ch.first; i < ch.last; ++i) ++offset[static_cast<std::size_t>(target_id(pcs[i])) + 1];
   }
   for (std::size_t t = 0; t < nt; ++t) offset[t + 1] += offset[t];
   const auto total_i = static_cast<std::int64_t>(total);
@@ -742,7 +818,7 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
     for (const Chunk& ch : chunks) {
       const auto& pcs = workers[static_cast<std::size_t>(ch.worker)]->pieces();
       for (std::size_t i = ch.first; i < ch.last; ++i)
-        out.pieces[pos[static_cast<std::size_t>(pcs[i].target)]++] = pcs[i];
+        out.pieces[pos[static_cast<std::size_t>(target_id(pcs[i]))]++] = with_ids(pcs[i]);
     }
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (std::int64_t ti = 0; ti < nt_i; ++ti) {
@@ -763,7 +839,8 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
     for (const Chunk& ch : chunks) {
       const auto& pcs = workers[static_cast<std::size_t>(ch.worker)]->pieces();
       for (std::size_t i = ch.first; i < ch.last; ++i)
-        refs[pos[static_cast<std::size_t>(pcs[i].target)]++] = Ref{pcs[i].source, ch.worker, i};
+        refs[pos[static_cast<std::size_t>(target_id(pcs[i]))]++] =
+            Ref{sources[static_cast<std::size_t>(pcs[i].source)].id, ch.worker, i};
     }
   }
   reserve_huge(out.pieces, total);
@@ -786,7 +863,7 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
     for (std::int64_t k = 0; k < total_i; ++k) {
       const Ref& r = refs[static_cast<std::size_t>(k)];
       const auto& w = *workers[static_cast<std::size_t>(r.worker)];
-      out.pieces[static_cast<std::size_t>(k)] = w.pieces()[r.index];
+      out.pieces[static_cast<std::size_t>(k)] = with_ids(w.pieces()[r.index]);
       if (gather_mass) mass[static_cast<std::size_t>(k)] = w.local_mass()[r.index];
     }
   }
