@@ -743,9 +743,10 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
   // spatial order; with chunks of consecutive indices the front then degenerates into R-tree
   // queries). The order depends on the mesh only: results stay identical for any thread count.
   std::vector<SourceCell<Mesh>> sources(ns);
+  std::vector<std::int32_t> source_position;  // of each source cell in that order
   {
-    std::vector<std::int32_t> order, rank;
-    morton_order(source, order, rank);
+    std::vector<std::int32_t> order;
+    morton_order(source, order, source_position);
     const auto ns_i = static_cast<std::int64_t>(ns);
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (std::int64_t i = 0; i < ns_i; ++i) {
@@ -754,7 +755,7 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
       rec.measure = Dm::measures(source)[c];
       for (std::size_t k = 0; k < rec.neighbors.size(); ++k) {
         const std::int32_t n = source.neighbors[c][k];
-        rec.neighbors[k] = n < 0 ? -1 : rank[static_cast<std::size_t>(n)];
+        rec.neighbors[k] = n < 0 ? -1 : source_position[static_cast<std::size_t>(n)];
       }
       rec.id = static_cast<std::int32_t>(c);
     }
@@ -784,20 +785,13 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
     for (std::int64_t c = 0; c < nchunks_i; ++c) w->run_chunk(chunks[static_cast<std::size_t>(c)], id, options.search);
   }
 
-  // Counting sort by target (chunk order), then by source within each target: the pieces alone
-  // directly, with polyhedra or local mixed mass matrices through references.
-  struct Ref {
-    std::int32_t source;
-    std::int32_t worker;
-    std::size_t index;
-  };
-  // Pieces name their cells by their positions among the records until here.
+  // The merge, sorted by (target, source): a counting sort by target whose input is read in
+  // the order of the source cells' indices (each source cell's pieces are consecutive in its
+  // worker's storage), so that every target's pieces come out sorted by source. Pieces name
+  // their cells by their positions among the records until here. The pieces alone are copied
+  // directly; with polyhedra or local mixed mass matrices references are placed first, so
+  // that all three are copied once.
   const auto target_id = [&](const typename Dm::Piece& p) { return targets[static_cast<std::size_t>(p.target)].id; };
-  const auto with_ids = [&](typename Dm::Piece p) {
-    p.source = sources[static_cast<std::size_t>(p.source)].id;
-    p.target = targets[static_cast<std::size_t>(p.target)].id;
-    return p;
-  };
   std::vector<std::size_t> offset(nt + 1, 0);
   std::size_t total = 0;
   for (const Chunk& ch : chunks) {
@@ -807,65 +801,59 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
     for (std::size_t i = ch.first; i < ch.last; ++i) ++offset[static_cast<std::size_t>(target_id(pcs[i])) + 1];
   }
   for (std::size_t t = 0; t < nt; ++t) offset[t + 1] += offset[t];
-  const auto total_i = static_cast<std::int64_t>(total);
-  const auto by_source = [](const auto& x, const auto& y) { return x.source < y.source; };
+  // Calls place(source index, worker, index in its storage) for every piece, by source index.
+  const auto for_each_piece_by_source = [&](auto&& place) {
+    for (std::size_t id = 0; id < ns; ++id) {
+      const std::int32_t p = source_position[id];
+      // The chunk holding position p: chunks[c].begin = ns * c / nchunks (rounded down).
+      std::size_t c = static_cast<std::size_t>(p) * nchunks / ns;
+      while (c + 1 < nchunks && chunks[c + 1].begin <= p) ++c;
+      const int w = chunks[c].worker;
+      const std::size_t b = piece_begin[static_cast<std::size_t>(p)];
+      for (std::size_t i = b; i < b + piece_count[static_cast<std::size_t>(p)]; ++i) place(id, w, i);
+    }
+  };
+  reserve_huge(out.pieces, total);
+  out.pieces.resize(total);
+  std::vector<std::size_t> pos(offset.begin(), offset.end() - 1);
   if (!options.keep_polyhedra && !options.keep_mixed_mass) {
-    // Only the pieces: scattered straight to their place by target, then sorted by source
-    // within each target (segments are short).
-    reserve_huge(out.pieces, total);
-    out.pieces.resize(total);
-    std::vector<std::size_t> pos(offset.begin(), offset.end() - 1);
-    for (const Chunk& ch : chunks) {
-      const auto& pcs = workers[static_cast<std::size_t>(ch.worker)]->pieces();
-      for (std::size_t i = ch.first; i < ch.last; ++i)
-        out.pieces[pos[static_cast<std::size_t>(target_id(pcs[i]))]++] = with_ids(pcs[i]);
-    }
-#pragma omp parallel for schedule(static) num_threads(threads)
-    for (std::int64_t ti = 0; ti < nt_i; ++ti) {
-      const auto b = out.pieces.begin() + static_cast<std::ptrdiff_t>(offset[static_cast<std::size_t>(ti)]);
-      const auto e = out.pieces.begin() + static_cast<std::ptrdiff_t>(offset[static_cast<std::size_t>(ti) + 1]);
-      std::sort(b, e, by_source);
-    }
+    for_each_piece_by_source([&](std::size_t id, int w, std::size_t i) {
+      typename Dm::Piece piece = workers[static_cast<std::size_t>(w)]->pieces()[i];
+      piece.source = static_cast<std::int32_t>(id);
+      piece.target = target_id(piece);
+      out.pieces[pos[static_cast<std::size_t>(piece.target)]++] = piece;
+    });
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;
   }
-  // With polyhedra or local mixed mass matrices: the same order, through references to the
-  // pieces, so that all three are copied once.
+  struct Ref {
+    std::int32_t source;
+    std::int32_t worker;
+    std::size_t index;
+  };
   std::vector<Ref> refs;
   reserve_huge(refs, total);
   refs.resize(total);
-  {
-    std::vector<std::size_t> pos(offset.begin(), offset.end() - 1);
-    for (const Chunk& ch : chunks) {
-      const auto& pcs = workers[static_cast<std::size_t>(ch.worker)]->pieces();
-      for (std::size_t i = ch.first; i < ch.last; ++i)
-        refs[pos[static_cast<std::size_t>(target_id(pcs[i]))]++] =
-            Ref{sources[static_cast<std::size_t>(pcs[i].source)].id, ch.worker, i};
-    }
-  }
-  reserve_huge(out.pieces, total);
-  out.pieces.resize(total);
+  for_each_piece_by_source([&](std::size_t id, int w, std::size_t i) {
+    refs[pos[static_cast<std::size_t>(target_id(workers[static_cast<std::size_t>(w)]->pieces()[i]))]++] =
+        Ref{static_cast<std::int32_t>(id), w, i};
+  });
   auto& mass = Dm::local_mass(out);
   if (options.keep_mixed_mass) {
     reserve_huge(mass, total);
     mass.resize(total);
   }
   const bool gather_mass = options.keep_mixed_mass;
-#pragma omp parallel num_threads(threads)
-  {
-#pragma omp for schedule(static)
-    for (std::int64_t ti = 0; ti < nt_i; ++ti) {
-      const auto b = refs.begin() + static_cast<std::ptrdiff_t>(offset[static_cast<std::size_t>(ti)]);
-      const auto e = refs.begin() + static_cast<std::ptrdiff_t>(offset[static_cast<std::size_t>(ti) + 1]);
-      std::sort(b, e, by_source);
-    }
-#pragma omp for schedule(static)
-    for (std::int64_t k = 0; k < total_i; ++k) {
-      const Ref& r = refs[static_cast<std::size_t>(k)];
-      const auto& w = *workers[static_cast<std::size_t>(r.worker)];
-      out.pieces[static_cast<std::size_t>(k)] = with_ids(w.pieces()[r.index]);
-      if (gather_mass) mass[static_cast<std::size_t>(k)] = w.local_mass()[r.index];
-    }
+  const auto total_i = static_cast<std::int64_t>(total);
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (std::int64_t k = 0; k < total_i; ++k) {
+    const Ref& r = refs[static_cast<std::size_t>(k)];
+    const auto& w = *workers[static_cast<std::size_t>(r.worker)];
+    typename Dm::Piece piece = w.pieces()[r.index];
+    piece.source = r.source;
+    piece.target = target_id(piece);
+    out.pieces[static_cast<std::size_t>(k)] = piece;
+    if (gather_mass) mass[static_cast<std::size_t>(k)] = w.local_mass()[r.index];
   }
   if (options.keep_polyhedra) {
     auto& shapes = Dm::shapes(out);
