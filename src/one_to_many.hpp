@@ -27,6 +27,8 @@ struct Conditioning {
 
 /// The conditioning of t, computed as the kernel computes it for each pair.
 Conditioning conditioning(const Tet& t);
+/// The conditioning of a and of b, the same numbers as one at a time (one per SIMD lane).
+void conditioning(const Tet& a, const Tet& b, Conditioning& ca, Conditioning& cb);
 
 /// Above this quality the sign of a tetrahedron's det6, and so the signs of its barycentric
 /// map's coordinates, are certain: det6's rounding error is below about 1e-14 s^(3/2) (s the sum

@@ -654,8 +654,8 @@ void sort_by_key(std::vector<std::pair<std::uint64_t, std::int32_t>>& a) {
   }
 }
 
-// The visiting order of the source cells: by the Morton code of their centroids (63 / d bits
-// per axis, 21 in 3D and 31 in 2D) in the bounding box of the mesh; `rank` is its inverse.
+// The cells of a mesh by the Morton code of their centroids (63 / d bits per axis, 21 in 3D
+// and 31 in 2D) in the bounding box of the mesh's nodes; `rank` is its inverse.
 template <class Mesh>
 void morton_order(const Mesh& source, std::vector<std::int32_t>& order, std::vector<std::int32_t>& rank) {
   using Dm = detail::Dim<Mesh>;
@@ -663,14 +663,14 @@ void morton_order(const Mesh& source, std::vector<std::int32_t>& order, std::vec
   constexpr int bits = 63 / d;
   constexpr double top = static_cast<double>((std::uint64_t{1} << bits) - 1);
   const std::size_t ns = source.num_cells();
-  Box<d> all = box_of<Mesh>(source.cell(0));
-  for (std::size_t c = 1; c < ns; ++c) {
-    const Box<d> b = box_of<Mesh>(source.cell(c));
+  Box<d> all;
+  for (std::size_t k = 0; k < d; ++k) all.lo[k] = all.hi[k] = Dm::coord(source.nodes[0], static_cast<int>(k));
+  for (const auto& p : source.nodes)
     for (std::size_t k = 0; k < d; ++k) {
-      all.lo[k] = std::min(all.lo[k], b.lo[k]);
-      all.hi[k] = std::max(all.hi[k], b.hi[k]);
+      const double x = Dm::coord(p, static_cast<int>(k));
+      all.lo[k] = x < all.lo[k] ? x : all.lo[k];
+      all.hi[k] = all.hi[k] < x ? x : all.hi[k];
     }
-  }
   std::vector<std::pair<std::uint64_t, std::int32_t>> keys(ns);
   for (std::size_t c = 0; c < ns; ++c) {
     const auto t = source.cell(c);
@@ -730,9 +730,17 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
         rec.neighbors[k] = n < 0 ? -1 : trank[static_cast<std::size_t>(n)];
       }
       rec.risky_faces = static_cast<std::uint8_t>(r);
-      if constexpr (Dm::d == 3) rec.conditioning = detail::conditioning(cell);
       rec.measure = target_measures[t];
       rec.id = static_cast<std::int32_t>(t);
+    }
+    if constexpr (Dm::d == 3) {  // two at a time (both lanes of shape_qualities)
+#pragma omp parallel for schedule(static) num_threads(threads)
+      for (std::int64_t i = 0; i < nt_i; i += 2) {
+        const auto a = static_cast<std::size_t>(i), b = std::min(a + 1, nt - 1);
+        detail::conditioning(target.cell(static_cast<std::size_t>(targets[a].id)),
+                             target.cell(static_cast<std::size_t>(targets[b].id)), targets[a].conditioning,
+                             targets[b].conditioning);
+      }
     }
   }
   const typename TreeT::RTree tree(values.begin(), values.end());

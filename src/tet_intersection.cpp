@@ -1568,6 +1568,8 @@ Conditioning conditioning(const Tet& t) {
   return c;
 }
 
+void conditioning(const Tet& a, const Tet& b, Conditioning& ca, Conditioning& cb) { shape_qualities(a, b, ca, cb); }
+
 OneToMany::OneToMany(const Tet& s) : s_(s), cs_(conditioning(s)), map_(s, cs_.inv_det6) {}
 
 Moments OneToMany::moments(const Tet& t, const Conditioning& ct, unsigned* t_faces) const {
