@@ -168,6 +168,13 @@ struct Tree {
     }
   }
   static BBox bbox(const Box<D>& b) { return BBox(point(b.lo), point(b.hi)); }
+  static Box<D> box(const BBox& b) {
+    Box<D> r;
+    r.lo[0] = bg::get<0>(b.min_corner()), r.hi[0] = bg::get<0>(b.max_corner());
+    r.lo[1] = bg::get<1>(b.min_corner()), r.hi[1] = bg::get<1>(b.max_corner());
+    if constexpr (D == 3) r.lo[2] = bg::get<2>(b.min_corner()), r.hi[2] = bg::get<2>(b.max_corner());
+    return r;
+  }
 };
 
 template <class Mesh>
@@ -345,6 +352,7 @@ struct Shared {
   const Mesh& source;
   const Mesh& target;
   const typename Tree<Dm::d>::RTree& tree;
+  Box<Dm::d> target_bounds;  // the bounding box of all target cells
   bool keep_shapes;  // keep the polyhedra (polygons)
   bool keep_mass;    // keep each piece's local mixed mass matrix
   // The target cells in Morton order and the source cells in their visiting order; the front
@@ -519,6 +527,7 @@ class Worker {
   // Every target whose bounding box overlaps s's, not yet tested.
   void rtree_pass(std::int32_t s) {
     hits_.clear();
+    if (!overlap_open(sbox_, sh_.target_bounds)) return;  // outside the target mesh's box: no hit
     sh_.tree.query(bgi::intersects(TreeT::bbox(sbox_)), std::back_inserter(hits_));
     for (const auto& h : hits_)
       if (mark_[static_cast<std::size_t>(h.second)] != stamp_ + 1) test(s, h.second);
@@ -528,6 +537,7 @@ class Worker {
   // overlaps s's, not yet tested, each a seed for a flood (see "Why this finds every pair").
   void risky_pass(std::int32_t s) {
     hits_.clear();
+    if (!overlap_open(sbox_, sh_.target_bounds)) return;
     sh_.tree.query(bgi::intersects(TreeT::bbox(sbox_)), std::back_inserter(hits_));
     for (const auto& h : hits_)
       if (sh_.targets[static_cast<std::size_t>(h.second)].risky_faces) enqueue(h.second);
@@ -771,7 +781,7 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
   std::vector<std::uint8_t> state(ns, 0);
   std::vector<std::int32_t> parent(ns, -1);
   std::vector<std::size_t> piece_begin(ns, 0), piece_count(ns, 0);
-  const Shared<Mesh> sh{source, target, tree, options.keep_polyhedra, options.keep_mixed_mass,
+  const Shared<Mesh> sh{source, target, tree, TreeT::box(tree.bounds()), options.keep_polyhedra, options.keep_mixed_mass,
                         targets, sources, state, parent, piece_begin, piece_count};
 
   // Chunks of consecutive positions in that order; their number depends on the mesh only.
