@@ -534,14 +534,51 @@ class Worker {
   }
 
   // For an s whose flood crossed a risky face: the targets with a risky face whose bounding box
-  // overlaps s's, not yet tested, each a seed for a flood (see "Why this finds every pair").
+  // overlaps s's, not yet tested, each a seed for a flood (see "Why this finds every pair"). The
+  // argument needs only targets with a risky face that meets the interior of s; in 3D those whose
+  // risky faces all lie outside s (risky_faces_outside) are left out.
   void risky_pass(std::int32_t s) {
     hits_.clear();
     if (!overlap_open(sbox_, sh_.target_bounds)) return;
     sh_.tree.query(bgi::intersects(TreeT::bbox(sbox_)), std::back_inserter(hits_));
-    for (const auto& h : hits_)
-      if (sh_.targets[static_cast<std::size_t>(h.second)].risky_faces) enqueue(h.second);
+    for (const auto& h : hits_) {
+      const unsigned risky = sh_.targets[static_cast<std::size_t>(h.second)].risky_faces;
+      if (!risky || seen(h.second)) continue;
+      if constexpr (Dm::d == 3) {
+        if (risky_faces_outside(h.second, risky)) continue;
+      }
+      enqueue(h.second);
+    }
     flood(s);
+  }
+
+  // 3D: is each face of target t in `faces` outside s, certainly? Face k of t is, when its three
+  // vertices have a common barycentric coordinate of s that is negative: the triangle then lies
+  // in the open half-space beyond one of s's face planes. The signs come from s's barycentric
+  // map, certain (its snapping leaves a coordinate within rounding of 0 at exactly 0) when the
+  // sign of s's determinant is (kSignCertainQuality); otherwise nothing is known (false).
+  bool risky_faces_outside(std::int32_t t, unsigned faces) {
+    if (!smap_) {
+      const detail::Conditioning cs = detail::conditioning(S_);
+      smap_certain_ = cs.quality > detail::kSignCertainQuality;
+      smap_.emplace(S_, cs.inv_det6);
+    }
+    if (!smap_certain_) return false;
+    const Cell T = target_cell(t);
+    unsigned negative[4];  // bit p: coordinate p of t's vertex i is < 0
+    for (std::size_t i = 0; i < 4; ++i) {
+      double c[4];
+      (*smap_)(T[i], c);
+      negative[i] = unsigned(c[0] < 0.0) | unsigned(c[1] < 0.0) << 1 | unsigned(c[2] < 0.0) << 2 | unsigned(c[3] < 0.0) << 3;
+    }
+    for (std::size_t k = 0; k < 4; ++k) {
+      if (!(faces >> k & 1u)) continue;
+      unsigned common = 0xFu;  // over the face's vertices (all but k)
+      for (std::size_t i = 0; i < 4; ++i)
+        if (i != k) common &= negative[i];
+      if (!common) return false;
+    }
+    return true;
   }
 
   void begin_cell(std::int32_t s) {
@@ -554,7 +591,10 @@ class Worker {
     covered_ = 0.0;
     const SourceCell<Mesh>& rec = sh_.sources[static_cast<std::size_t>(s)];
     S_ = sh_.source.cell(static_cast<std::size_t>(rec.id));
-    if constexpr (Dm::d == 3) one_.reset();
+    if constexpr (Dm::d == 3) {
+      one_.reset();
+      smap_.reset();
+    }
     svol_ = rec.measure;
     sbox_ = box_of<Mesh>(S_);
     sh_.piece_begin[static_cast<std::size_t>(s)] = pieces_.size();
@@ -643,6 +683,9 @@ class Worker {
   unsigned crossed_ = 0xFu;  // faces of T_ that S_ may meet, as the kernel knew (OneToMany::moments)
   // 3D: the source cell prepared for intersection_moments with many targets.
   std::conditional_t<Dm::d == 3, std::optional<detail::OneToMany>, std::monostate> one_;
+  // 3D: s's barycentric map for risky_faces_outside, made on first use; whether its signs are certain.
+  std::conditional_t<Dm::d == 3, std::optional<detail::BarycentricMap>, std::monostate> smap_;
+  bool smap_certain_ = false;
 };
 
 // Sorts (key, index) pairs by key, stably: pairs made in increasing index order come out as
