@@ -32,8 +32,9 @@
 //      flood crossed a risky face when one is among the faces a positive target queued its
 //      neighbours across; it was cut when a target it queued that way tested zero. If the
 //      flood crossed a risky face and either covered s or was not cut, the targets with a
-//      risky face whose bounding box overlaps s's, not yet tested, are tested, and each
-//      positive one starts a flood. Otherwise, if s is not covered (this includes a cell with no
+//      risky face whose bounding box overlaps s's, not yet tested, are tested (in 3D not
+//      those whose risky faces all lie beyond a face plane of s), and each positive one
+//      starts a flood. Otherwise, if s is not covered (this includes a cell with no
 //      processed neighbour, the start of a region), s is tested against every target whose
 //      bounding box overlaps its own (R-tree query), which finds every positive pair by itself.
 //
@@ -53,9 +54,10 @@
 // (another one would be an open set disjoint from a dense open set), and the flood found every
 // positive target. If it did, every other component K has a boundary inside int(s) (which is
 // connected), on risky faces; the target on K's side of such a face owns it as a risky face,
-// meets s with positive volume and lies in K: the risky pass tests it and floods K. An R-tree
-// pass is complete by itself. The seeds only decide how often the R-tree is needed (near the
-// target boundary: O(n^(2/3)) cells for meshes of one domain), never what is found;
+// meets s with positive volume and lies in K: the risky pass tests it (that face meets int(s),
+// so no face plane of s has it beyond) and floods K. An R-tree pass is complete by itself. The
+// seeds only decide how often the R-tree is needed (near the target boundary: O(n^(2/3)) cells
+// for meshes of one domain), never what is found;
 // zero-volume contacts never stop the front (a flood that finds nothing falls back to the
 // R-tree).
 //
