@@ -36,7 +36,8 @@
 //      those whose risky faces all lie beyond a face plane of s), and each positive one
 //      starts a flood. Otherwise, if s is not covered (this includes a cell with no
 //      processed neighbour, the start of a region), s is tested against every target whose
-//      bounding box overlaps its own (R-tree query), which finds every positive pair by itself.
+//      bounding box overlaps its own (R-tree query; in 3D less those that lie beyond a face
+//      plane of s, certainly empty), which finds every positive pair by itself.
 //
 // Why this finds every pair (s, t) with vol(s n t) > 0. The target cells are a mesh: they do
 // not overlap (several overlapping meshes in one are found completely only by the R-tree
@@ -526,13 +527,19 @@ class Worker {
     }
   }
 
-  // Every target whose bounding box overlaps s's, not yet tested.
+  // Every target whose bounding box overlaps s's, not yet tested; in 3D not those that lie
+  // beyond a face plane of s (separated_from_s: their intersection is empty).
   void rtree_pass(std::int32_t s) {
     hits_.clear();
     if (!overlap_open(sbox_, sh_.target_bounds)) return;  // outside the target mesh's box: no hit
     sh_.tree.query(bgi::intersects(TreeT::bbox(sbox_)), std::back_inserter(hits_));
-    for (const auto& h : hits_)
-      if (mark_[static_cast<std::size_t>(h.second)] != stamp_ + 1) test(s, h.second);
+    for (const auto& h : hits_) {
+      if (mark_[static_cast<std::size_t>(h.second)] == stamp_ + 1) continue;
+      if constexpr (Dm::d == 3) {
+        if (separated_from_s(h.second)) continue;
+      }
+      test(s, h.second);
+    }
   }
 
   // For an s whose flood crossed a risky face: the targets with a risky face whose bounding box
@@ -555,11 +562,33 @@ class Worker {
   }
 
   // 3D: is each face of target t in `faces` outside s, certainly? Face k of t is, when its three
-  // vertices have a common barycentric coordinate of s that is negative: the triangle then lies
-  // in the open half-space beyond one of s's face planes. The signs come from s's barycentric
-  // map, certain (its snapping leaves a coordinate within rounding of 0 at exactly 0) when the
-  // sign of s's determinant is (kSignCertainQuality); otherwise nothing is known (false).
+  // vertices have a common negative barycentric coordinate of s (negative_coordinates): the
+  // triangle then lies in the open half-space beyond one of s's face planes.
   bool risky_faces_outside(std::int32_t t, unsigned faces) {
+    unsigned negative[4];
+    if (!negative_coordinates(t, negative)) return false;
+    for (std::size_t k = 0; k < 4; ++k) {
+      if (!(faces >> k & 1u)) continue;
+      unsigned common = 0xFu;  // over the face's vertices (all but k)
+      for (std::size_t i = 0; i < 4; ++i)
+        if (i != k) common &= negative[i];
+      if (!common) return false;
+    }
+    return true;
+  }
+
+  // 3D: does target t lie beyond a face plane of s, certainly (its four vertices have a common
+  // negative barycentric coordinate of s)? Then s n t is empty.
+  bool separated_from_s(std::int32_t t) {
+    unsigned negative[4];
+    return negative_coordinates(t, negative) && (negative[0] & negative[1] & negative[2] & negative[3]) != 0;
+  }
+
+  // 3D: bit p of negative[i]: barycentric coordinate p of s at t's vertex i is negative. The
+  // signs come from s's barycentric map (made on first use), certain when the sign of s's
+  // determinant is (kSignCertainQuality): its snapping leaves a coordinate within rounding of 0
+  // at exactly 0. Returns false, and nothing, when they are not.
+  bool negative_coordinates(std::int32_t t, unsigned (&negative)[4]) {
     if (!smap_) {
       const detail::Conditioning cs = detail::conditioning(S_);
       smap_certain_ = cs.quality > detail::kSignCertainQuality;
@@ -567,18 +596,10 @@ class Worker {
     }
     if (!smap_certain_) return false;
     const Cell T = target_cell(t);
-    unsigned negative[4];  // bit p: coordinate p of t's vertex i is < 0
     for (std::size_t i = 0; i < 4; ++i) {
       double c[4];
       (*smap_)(T[i], c);
       negative[i] = unsigned(c[0] < 0.0) | unsigned(c[1] < 0.0) << 1 | unsigned(c[2] < 0.0) << 2 | unsigned(c[3] < 0.0) << 3;
-    }
-    for (std::size_t k = 0; k < 4; ++k) {
-      if (!(faces >> k & 1u)) continue;
-      unsigned common = 0xFu;  // over the face's vertices (all but k)
-      for (std::size_t i = 0; i < 4; ++i)
-        if (i != k) common &= negative[i];
-      if (!common) return false;
     }
     return true;
   }
