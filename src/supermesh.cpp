@@ -640,6 +640,9 @@ class Worker {
     }
   }
 
+  // The flood found pieces (after `first`), crossed a risky face and was not cut.
+  bool component_found(std::size_t first) const { return pieces_.size() > first && crossed_risky_ && !cut_; }
+
   void process_front(std::int32_t s, const Chunk& ch) {
     begin_cell(s);
     const std::size_t first = pieces_.size();
@@ -650,13 +653,16 @@ class Worker {
     if (p >= 0) {
       // Step 1: the parent's targets, one at a time until the flood from the positive ones
       // covers s (many of them do not meet s: not testing them saves kernel calls). First those
-      // whose box holds the centre of s's box, the likeliest to meet s.
+      // whose box holds the centre of s's box, the likeliest to meet s. A flood that found
+      // pieces, crossed a risky face and was not cut has found its component, and step 3's
+      // risky search finds any other (below): seeding stops there too, which spares a cell
+      // the target boundary cuts (never covered) the rest of its parent's targets.
       const std::size_t b = sh_.piece_begin[static_cast<std::size_t>(p)];
       const std::size_t e = b + sh_.piece_count[static_cast<std::size_t>(p)];
       std::array<double, Dm::d> centre;
       for (std::size_t k = 0; k < Dm::d; ++k) centre[k] = 0.5 * (sbox_.lo[k] + sbox_.hi[k]);
       for (int pass = 0; pass < 2; ++pass) {
-        for (std::size_t i = b; i < e && !complete; ++i) {
+        for (std::size_t i = b; i < e && !complete && !component_found(first); ++i) {
           const std::int32_t t = pieces_[i].target;  // by index: test() appends to pieces_
           if (seen(t)) continue;
           if (pass == 0) {
