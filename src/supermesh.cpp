@@ -22,7 +22,8 @@
 //      mass, a reference too flat for its signs to be certain, and in 2D) the faces whose plane
 //      does not have all of s strictly on t's side (certified with orient3d's error bound: the
 //      neighbour meets s with zero volume). A target tested zero queues nothing. Seeding stops
-//      once s is covered (the volumes found add up to |s| to 1e-12).
+//      once s is covered (the volumes found add up to |s| to 1e-12), or once a flood found
+//      pieces, crossed a risky face and was not cut (step 3 then searches for the rest).
 //   2. Not covered yet, and the flood neither crossed a risky face nor was cut (both below):
 //      the targets of every processed neighbour of s and their neighbours (this crosses
 //      zero-volume contacts: for identical or face-sharing meshes the parent's targets only
