@@ -716,7 +716,8 @@ class Worker {
   unsigned crossed_ = 0xFu;  // faces of T_ that S_ may meet, as the kernel knew (OneToMany::moments)
   // 3D: the source cell prepared for intersection_moments with many targets.
   std::conditional_t<Dm::d == 3, std::optional<detail::OneToMany>, std::monostate> one_;
-  // 3D: s's barycentric map for risky_faces_outside, made on first use; whether its signs are certain.
+  // 3D: s's barycentric map for negative_coordinates, made on first use; whether its signs are
+  // certain.
   std::conditional_t<Dm::d == 3, std::optional<detail::BarycentricMap>, std::monostate> smap_;
   bool smap_certain_ = false;
 };
@@ -743,15 +744,15 @@ void sort_by_key(std::vector<std::pair<std::uint64_t, std::int32_t>>& a) {
 // The cells of a mesh by the Morton code of their centroids (63 / d bits per axis, 21 in 3D
 // and 31 in 2D) in the bounding box of the mesh's nodes; `rank` is its inverse.
 template <class Mesh>
-void morton_order(const Mesh& source, std::vector<std::int32_t>& order, std::vector<std::int32_t>& rank) {
+void morton_order(const Mesh& mesh, std::vector<std::int32_t>& order, std::vector<std::int32_t>& rank) {
   using Dm = detail::Dim<Mesh>;
   constexpr int d = Dm::d;
   constexpr int bits = 63 / d;
   constexpr double top = static_cast<double>((std::uint64_t{1} << bits) - 1);
-  const std::size_t ns = source.num_cells();
+  const std::size_t ns = mesh.num_cells();
   Box<d> all;
-  for (std::size_t k = 0; k < d; ++k) all.lo[k] = all.hi[k] = Dm::coord(source.nodes[0], static_cast<int>(k));
-  for (const auto& p : source.nodes)
+  for (std::size_t k = 0; k < d; ++k) all.lo[k] = all.hi[k] = Dm::coord(mesh.nodes[0], static_cast<int>(k));
+  for (const auto& p : mesh.nodes)
     for (std::size_t k = 0; k < d; ++k) {
       const double x = Dm::coord(p, static_cast<int>(k));
       all.lo[k] = x < all.lo[k] ? x : all.lo[k];
@@ -759,7 +760,7 @@ void morton_order(const Mesh& source, std::vector<std::int32_t>& order, std::vec
     }
   std::vector<std::pair<std::uint64_t, std::int32_t>> keys(ns);
   for (std::size_t c = 0; c < ns; ++c) {
-    const auto t = source.cell(c);
+    const auto t = mesh.cell(c);
     std::uint64_t key = 0;
     std::uint64_t q[d];
     for (int k = 0; k < d; ++k) {
