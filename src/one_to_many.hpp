@@ -50,6 +50,11 @@ class OneToMany {
   static constexpr unsigned kPlanesTested = 0x10;
   Moments moments(const Tet& t, const Conditioning& ct, unsigned* t_faces = nullptr) const;
 
+  /// s's barycentric map, and whether the signs of its coordinates are certain (the sign of s's
+  /// det6 is: quality above kSignCertainQuality).
+  const BarycentricMap& map() const { return map_; }
+  bool signs_certain() const { return cs_.quality > kSignCertainQuality; }
+
  private:
   Tet s_;
   Conditioning cs_;

@@ -528,15 +528,21 @@ class Worker {
     }
   }
 
+  // hits_: the targets whose bounding box overlaps s's (none, without a query, when s's box is
+  // outside the target mesh's).
+  void query_box() {
+    hits_.clear();
+    if (overlap_open(sbox_, sh_.target_bounds))
+      sh_.tree.query(bgi::intersects(TreeT::bbox(sbox_)), std::back_inserter(hits_));
+  }
+
   // Every target whose bounding box overlaps s's, not yet tested. With `filter` (the front's
   // fallback, near the target boundary, where most of them meet s with zero volume), in 3D not
   // those that lie beyond a face plane of s (separated_from_s: their intersection is empty).
   // The plain R-tree search tests every one: there most meet s, and the filter costs more than
   // it saves (10 % slower at 10^6 cells).
   void rtree_pass(std::int32_t s, bool filter) {
-    hits_.clear();
-    if (!overlap_open(sbox_, sh_.target_bounds)) return;  // outside the target mesh's box: no hit
-    sh_.tree.query(bgi::intersects(TreeT::bbox(sbox_)), std::back_inserter(hits_));
+    query_box();
     for (const auto& h : hits_) {
       if (mark_[static_cast<std::size_t>(h.second)] == stamp_ + 1) continue;
       if constexpr (Dm::d == 3) {
@@ -551,9 +557,7 @@ class Worker {
   // argument needs only targets with a risky face that meets the interior of s; in 3D those whose
   // risky faces all lie outside s (risky_faces_outside) are left out.
   void risky_pass(std::int32_t s) {
-    hits_.clear();
-    if (!overlap_open(sbox_, sh_.target_bounds)) return;
-    sh_.tree.query(bgi::intersects(TreeT::bbox(sbox_)), std::back_inserter(hits_));
+    query_box();
     for (const auto& h : hits_) {
       const unsigned risky = sh_.targets[static_cast<std::size_t>(h.second)].risky_faces;
       if (!risky || seen(h.second)) continue;
@@ -589,20 +593,17 @@ class Worker {
   }
 
   // 3D: bit p of negative[i]: barycentric coordinate p of s at t's vertex i is negative. The
-  // signs come from s's barycentric map (made on first use), certain when the sign of s's
-  // determinant is (kSignCertainQuality): its snapping leaves a coordinate within rounding of 0
-  // at exactly 0. Returns false, and nothing, when they are not.
+  // signs come from s's barycentric map, the one OneToMany keeps (made here if no candidate was
+  // tested yet), certain when the sign of s's determinant is (kSignCertainQuality): its
+  // snapping leaves a coordinate within rounding of 0 at exactly 0. Returns false, and nothing,
+  // when they are not.
   bool negative_coordinates(std::int32_t t, unsigned (&negative)[4]) {
-    if (!smap_) {
-      const detail::Conditioning cs = detail::conditioning(S_);
-      smap_certain_ = cs.quality > detail::kSignCertainQuality;
-      smap_.emplace(S_, cs.inv_det6);
-    }
-    if (!smap_certain_) return false;
+    if (!one_) one_.emplace(S_);
+    if (!one_->signs_certain()) return false;
     const Cell T = target_cell(t);
     for (std::size_t i = 0; i < 4; ++i) {
       double c[4];
-      (*smap_)(T[i], c);
+      one_->map()(T[i], c);
       negative[i] = unsigned(c[0] < 0.0) | unsigned(c[1] < 0.0) << 1 | unsigned(c[2] < 0.0) << 2 | unsigned(c[3] < 0.0) << 3;
     }
     return true;
@@ -618,10 +619,7 @@ class Worker {
     covered_ = 0.0;
     const SourceCell<Mesh>& rec = sh_.sources[static_cast<std::size_t>(s)];
     S_ = sh_.source.cell(static_cast<std::size_t>(rec.id));
-    if constexpr (Dm::d == 3) {
-      one_.reset();
-      smap_.reset();
-    }
+    if constexpr (Dm::d == 3) one_.reset();
     svol_ = rec.measure;
     sbox_ = box_of<Mesh>(S_);
     sh_.piece_begin[static_cast<std::size_t>(s)] = pieces_.size();
@@ -714,12 +712,9 @@ class Worker {
   double svol_ = 0.0;
   Shape shape_;
   unsigned crossed_ = 0xFu;  // faces of T_ that S_ may meet, as the kernel knew (OneToMany::moments)
-  // 3D: the source cell prepared for intersection_moments with many targets.
+  // 3D: the source cell prepared for intersection_moments with many targets (its map also serves
+  // negative_coordinates), made on first use.
   std::conditional_t<Dm::d == 3, std::optional<detail::OneToMany>, std::monostate> one_;
-  // 3D: s's barycentric map for negative_coordinates, made on first use; whether its signs are
-  // certain.
-  std::conditional_t<Dm::d == 3, std::optional<detail::BarycentricMap>, std::monostate> smap_;
-  bool smap_certain_ = false;
 };
 
 // Sorts (key, index) pairs by key, stably: pairs made in increasing index order come out as
