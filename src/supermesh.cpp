@@ -202,7 +202,7 @@ Box<detail::Dim<Mesh>::d> box_of(const typename detail::Dim<Mesh>::Cell& t) {
 template <int D>
 inline bool overlap_open(const Box<D>& a, const Box<D>& b) {
   bool r = true;
-  for (std::size_t k = 0; k < D; ++k) r &= (a.lo[k] < b.hi[k]) & (b.lo[k] < a.hi[k]);  // no branches
+  for (std::size_t k = 0; k < D; ++k) r &= unsigned(a.lo[k] < b.hi[k]) & unsigned(b.lo[k] < a.hi[k]);  // no branches
   return r;
 }
 
@@ -667,7 +667,7 @@ class Worker {
           if (pass == 0) {
             const auto tb = box_of<Mesh>(target_cell(t));
             bool holds = true;
-            for (std::size_t k = 0; k < Dm::d; ++k) holds &= (tb.lo[k] <= centre[k]) & (centre[k] <= tb.hi[k]);
+            for (std::size_t k = 0; k < Dm::d; ++k) holds &= unsigned(tb.lo[k] <= centre[k]) & unsigned(centre[k] <= tb.hi[k]);
             if (!holds) continue;
           }
           enqueue(t);

@@ -181,7 +181,7 @@ class Kernel {
     constexpr int kPairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
     for (const auto& pr : kPairs) {
       const int y = pr[0], x = pr[1];
-      const unsigned both = bit(crossed, x) & bit(crossed, y);
+      const unsigned both = unsigned(bit(crossed, x)) & unsigned(bit(crossed, y));
       const unsigned xy = unsigned(crosses_before(i, j, x, y)) & both;  // as the sort asks it
       before[x] |= xy << y;
       before[y] |= ((xy ^ 1u) & both) << x;
@@ -545,7 +545,8 @@ void canonical_order(const Triangle& t, Triangle& out, u8 (&perm)[3]) {
   // Rank of each vertex = how many come before it (x, then y, then index for equal points),
   // without branches: the sort of three is on the path of every call.
   const auto before = [&t](int i, int j) {
-    return int((t[i].x < t[j].x) | ((t[i].x == t[j].x) & ((t[i].y < t[j].y) | ((t[i].y == t[j].y) & (i < j)))));
+    return int(unsigned(t[i].x < t[j].x) |
+               (unsigned(t[i].x == t[j].x) & (unsigned(t[i].y < t[j].y) | (unsigned(t[i].y == t[j].y) & unsigned(i < j)))));
   };
   const int b01 = before(0, 1), b02 = before(0, 2), b12 = before(1, 2);
   const int rank[3] = {(1 - b01) + (1 - b02), b01 + (1 - b12), b02 + b12};
