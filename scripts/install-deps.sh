@@ -7,7 +7,9 @@ set -euo pipefail
 
 packages=(
   build-essential   # make, libc headers
-  g++               # C++20 compiler
+  g++               # C++20 compiler (the default one; tested in CI)
+  clang             # C++20 compiler the scripts build with: a faster kernel (docs/benchmarks.md)
+  libomp-dev        # OpenMP runtime for clang
   cmake             # >= 3.25
   ninja-build
   libgtest-dev      # GoogleTest (tests)

@@ -16,7 +16,7 @@ input2d="${2:-examples/triangle_pairs.txt}"
 jobs="${TETIA_JOBS:-2}"
 
 bash scripts/install-deps.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DTETIA_WERROR=ON
+cmake -S . -B build -DCMAKE_CXX_COMPILER="${TETIA_CXX:-clang++}" -DCMAKE_BUILD_TYPE=Release -DTETIA_WERROR=ON
 cmake --build build --target tetia_cli -j"$jobs"
 
 tmp="$(mktemp -d)"
