@@ -865,23 +865,26 @@ bool Kernel<kWeights, kStats>::run(KernelResult& out) {
   if constexpr (!kStats) {  // the same test on the first line, for the four vertices at once
     // The first lines through the vertices t = 0..3 are (2,3), (2,3), (1,3), (1,2) (lines 5, 5,
     // 4, 3) with the coordinates 1, 0, 0, 0: per face, the line's existence and that sign go to
-    // nibble t of two counters; t is inside when two faces meet its line and exactly one of
-    // them has the sign 1 (the two-point test below, in counts).
+    // nibble 3 - t of two counters; t is inside when two faces meet its line and exactly one of
+    // them has the sign 1 (the two-point test below, in counts). In that nibble order the bits
+    // needed, ex bits 3, 4, 5, 5 and fs bits 4L + r = 12, 16, 20, 21, come in a few operations.
     static_assert(kVertexLines[0][0][0] == 5 && kVertexLines[0][0][1] == 1 && kVertexLines[1][0][0] == 5 &&
                   kVertexLines[1][0][1] == 0 && kVertexLines[2][0][0] == 4 && kVertexLines[2][0][1] == 0 &&
                   kVertexLines[3][0][0] == 3 && kVertexLines[3][0][1] == 0);
     unsigned met = 0, positive = 0;
     for (int f = 0; f < 4; ++f) {
       const unsigned ex = fexist_[f], fs = fsign_[f];
-      const unsigned e = ((ex >> 5) & 1u) * 0x11u | ((ex >> 4) & 1u) << 8 | ((ex >> 3) & 1u) << 12;
-      const unsigned sg = ((fs >> 21) & 1u) | ((fs >> 20) & 1u) << 4 | ((fs >> 16) & 1u) << 8 | ((fs >> 12) & 1u) << 12;
+      const unsigned e = ((ex >> 3) * 0x49u & 0x111u) | (ex & 0x20u) << 7;  // bits 3, 4, 5, 5 -> 0, 4, 8, 12
+      const unsigned sg = ((fs >> 12) & 0x111u) | ((fs >> 9) & 0x1000u);    // bits 12, 16, 20, 21 -> 0, 4, 8, 12
       met += e;
       positive += e & sg;
     }
     const unsigned two = met ^ 0x2222u, one = positive ^ 0x1111u;  // zero nibbles where met == 2, positive == 1
     const unsigned nz = two | one;
     const unsigned zero_nibbles = ~(nz | (nz >> 1) | (nz >> 2) | (nz >> 3)) & 0x1111u;
-    unsigned inside = ((zero_nibbles * 0x1248u) >> 12) & 0xFu;  // bit 4t -> bit t
+    // Bit 4k -> bit 3 - k = t: the four products land on bits 15, 14, 13, 12, and the others
+    // on distinct bits below 12 (no carry) or above 15.
+    unsigned inside = ((zero_nibbles * 0x8421u) >> 12) & 0xFu;
     for (; inside; inside &= inside - 1) {
       const int t = std::countr_zero(inside);
       const int l0 = t == 0 ? 5 : 4, l1 = t <= 1 ? 6 : 5, l2 = t == 3 ? 6 : 7;
@@ -1055,12 +1058,11 @@ bool build_facets(KernelResult& r) {
     const u8* l = r.corners[c].labels;
     const std::uint32_t self = ~(1u << c), p0 = r.on_plane[l[0]], p1 = r.on_plane[l[1]], p2 = r.on_plane[l[2]];
     const std::uint32_t m0 = p1 & p2 & self, m1 = p0 & p2 & self, m2 = p0 & p1 & self;
-    // Exactly one bit each ((m ^ (m - 1)) > m - 1 holds for powers of two only), and no other
-    // corner on all three planes.
-    bad |= unsigned((m0 ^ (m0 - 1)) <= m0 - 1) | unsigned((m1 ^ (m1 - 1)) <= m1 - 1) |
-           unsigned((m2 ^ (m2 - 1)) <= m2 - 1) | (m2 & p2);
     const int n0 = std::countr_zero(m0 | 0x80000000u), n1 = std::countr_zero(m1 | 0x80000000u),
               n2 = std::countr_zero(m2 | 0x80000000u);
+    // Exactly one bit each (m equals its lowest bit; an empty m gets n = 31 and differs from
+    // bit 31), and no other corner on all three planes.
+    bad |= (m0 ^ (1u << n0)) | (m1 ^ (1u << n1)) | (m2 ^ (1u << n2)) | (m2 & p2);
     nb[c][0] = static_cast<u8>(n0);
     nb[c][1] = static_cast<u8>(n1);
     across[c][l[0]] = static_cast<u8>(n1 ^ n2);
