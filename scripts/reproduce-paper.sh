@@ -7,14 +7,16 @@
 #   bash scripts/reproduce-paper.sh            # full run, results in docs/figures/ (~6-10 min)
 #   bash scripts/reproduce-paper.sh --quick    # smoke test, results in build-repro/figures-quick/
 #
-# Builds in build-repro (Release, -Werror). Before each timed step it waits, polling every 60 s,
-# until the 1-minute load average is below REPRO_MAX_LOAD (1.2), for at most REPRO_MAX_WAIT
-# seconds (300) over the whole run, and records the load each step started at in run-info.txt.
+# Builds in build-repro (Release, -Werror; with clang++ when it is installed, as scripts/run.sh
+# does). Before each timed step it waits, polling every 60 s, until the 1-minute load average
+# is below REPRO_MAX_LOAD (1.2), for at most REPRO_MAX_WAIT seconds (300) over the whole run,
+# and records the load each step started at in run-info.txt.
 # (The load average includes the previous step for a minute or two after it ends.)
 #
 # Environment: REPRO_BUILD_DIR (build-repro), REPRO_OUT (docs/figures), TETIA_JOBS (2),
 # REPRO_MAX_LOAD (1.2), REPRO_MAX_WAIT (300), REPRO_CGAL (1; 0 skips bench_cgal, whose build
-# alone takes ~2.5 min on two cores), TETIA_WERROR (ON), PYTHON (a python3 with matplotlib).
+# alone takes ~2.5 min on two cores), TETIA_WERROR (ON), TETIA_CXX (the compiler),
+# PYTHON (a python3 with matplotlib).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -51,10 +53,16 @@ if [[ -z "$python" ]]; then
   exit 1
 fi
 
+# The compiler: clang++ as scripts/run.sh uses (docs/benchmarks.md, "Compiler"), else c++.
+cxx="${TETIA_CXX:-}"
+if [[ -z "$cxx" ]]; then
+  if command -v clang++ >/dev/null 2>&1; then cxx=clang++; else cxx=c++; fi
+fi
+
 t_start=$(date +%s)
-echo "== build ($build, Release)"
+echo "== build ($build, Release, $cxx)"
 mkdir -p "$build"
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DTETIA_BUILD_TESTS=OFF \
+cmake -S . -B "$build" -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=Release -DTETIA_BUILD_TESTS=OFF \
   -DTETIA_WERROR="${TETIA_WERROR:-ON}" -DTETIA_BENCH_CGAL="$([[ $cgal == 1 ]] && echo ON || echo OFF)" \
   > "$build/repro-cmake.log" 2>&1 || { cat "$build/repro-cmake.log"; exit 1; }
 targets=(paper_repro bench_pairs)
