@@ -23,6 +23,10 @@ struct Conditioning {
   double quality = 0.0;
   double det6 = 0.0;
   double inv_det6 = 0.0;  // 1 / det6, the scale of the barycentric map (BarycentricMap)
+  // det6^2 and s^3, s the sum of squared edge lengths: quality^2 is their quotient, so that two
+  // qualities compare by products, without waiting for the square root and the division.
+  double det6_sq = 0.0;
+  double s_cubed = 0.0;
 };
 
 /// The conditioning of t, computed as the kernel computes it for each pair.

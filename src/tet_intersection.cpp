@@ -1338,12 +1338,17 @@ void reference_moments(KernelResult& r) {
 // scale invariant, largest for the regular tetrahedron, zero when flat. The mapping to Y
 // amplifies rounding by about the inverse of this ratio.
 #if !TETIA_KERNEL_SSE2
-double shape_quality(const Tet& t, double& det6) {
+Conditioning shape_quality(const Tet& t) {
   const Vec3 e1 = t[1] - t[0], e2 = t[2] - t[0], e3 = t[3] - t[0];
   const Vec3 e4 = t[2] - t[1], e5 = t[3] - t[1], e6 = t[3] - t[2];
-  det6 = dot(e1, cross(e2, e3));
+  Conditioning c;
+  c.det6 = dot(e1, cross(e2, e3));
   const double s = dot(e1, e1) + dot(e2, e2) + dot(e3, e3) + dot(e4, e4) + dot(e5, e5) + dot(e6, e6);
-  return std::abs(det6) / (s * std::sqrt(s));
+  c.quality = std::abs(c.det6) / (s * std::sqrt(s));
+  c.inv_det6 = 1.0 / c.det6;
+  c.det6_sq = c.det6 * c.det6;
+  c.s_cubed = s * s * s;
+  return c;
 }
 #endif
 
@@ -1382,16 +1387,18 @@ void shape_qualities(const Tet& U, const Tet& V, Conditioning& cu, Conditioning&
   s = _mm_add_pd(s, dot2(e6, e6));
   const __m128d q = _mm_div_pd(_mm_andnot_pd(_mm_set1_pd(-0.0), det6), _mm_mul_pd(s, _mm_sqrt_pd(s)));
   const __m128d inv = _mm_div_pd(_mm_set1_pd(1.0), det6);
-  double qq[2], dd[2], ii[2];
+  const __m128d d2 = _mm_mul_pd(det6, det6), s3 = _mm_mul_pd(_mm_mul_pd(s, s), s);
+  double qq[2], dd[2], ii[2], d2d[2], s3d[2];
   _mm_storeu_pd(qq, q);
   _mm_storeu_pd(dd, det6);
   _mm_storeu_pd(ii, inv);
+  _mm_storeu_pd(d2d, d2);
+  _mm_storeu_pd(s3d, s3);
   cu.quality = qq[0], cv.quality = qq[1], cu.det6 = dd[0], cv.det6 = dd[1], cu.inv_det6 = ii[0], cv.inv_det6 = ii[1];
+  cu.det6_sq = d2d[0], cv.det6_sq = d2d[1], cu.s_cubed = s3d[0], cv.s_cubed = s3d[1];
 #else
-  cu.quality = shape_quality(U, cu.det6);
-  cv.quality = shape_quality(V, cv.det6);
-  cu.inv_det6 = 1.0 / cu.det6;
-  cv.inv_det6 = 1.0 / cv.det6;
+  cu = shape_quality(U);
+  cv = shape_quality(V);
 #endif
 }
 
@@ -1412,8 +1419,14 @@ bool frame_from(const Tet& U, const Conditioning& cu, const BarycentricMap* map_
   const double qU = cu.quality, qV = cv.quality;
   // Non-finite coordinates make a quality NaN or infinite; flat ones make it zero.
   if (!(qU > 0.0) || !(qV > 0.0) || !(qU < INFINITY) || !(qV < INFINITY)) return false;
-  bool use_u = qU > qV;
-  if (qU == qV) {
+  // With q^2 = det6^2 / s^3, qU > qV is det6U^2 sV^3 > det6V^2 sU^3: products only, so the choice, and the map that waits for it, need not wait for the square
+  // roots and divisions of the qualities. Where the products leave the normal range (edges
+  // beyond about 1e25 or below 1e-25) the qualities themselves are compared. The two sides are
+  // swapped with U and V, so (U, V) and (V, U) still choose the same reference.
+  const double lhs = cu.det6_sq * cv.s_cubed, rhs = cv.det6_sq * cu.s_cubed;
+  const bool products_fit = lhs >= 0x1p-1000 && rhs >= 0x1p-1000 && lhs < 0x1p1000 && rhs < 0x1p1000;
+  bool use_u = products_fit ? lhs > rhs : qU > qV;
+  if (products_fit ? lhs == rhs : qU == qV) {
     const double* pu = &U[0].x;
     const double* pv = &V[0].x;
     use_u = std::lexicographical_compare(pu, pu + 12, pv, pv + 12);
