@@ -1100,35 +1100,54 @@ bool build_facets(KernelResult& r) {
 #else
   for (int a = 0; a < 8; ++a) planes |= unsigned(r.on_plane[a] != 0) << a;
 #endif
-  if constexpr (kCornerApex) {
-    // The facets through corner 0 (its three labels), first: no geometry. Corner 0 is the
-    // lowest corner on each, so it is where the walk starts.
+  if constexpr (kCornerApex && !kStore) {
+    // The facets through corner 0 (its three labels): no geometry, only the check that each is
+    // one cycle. The three walks run side by side, from corner 0 to its neighbours on each
+    // (as below); a walk that is back at corner 0 stays there. One loop instead of three: one
+    // data-dependent exit, and three independent chains of loads instead of one after another.
+    const u8* l = r.corners[0].labels;
+    const int a0 = l[0], a1 = l[1], a2 = l[2];
+    unsigned p0 = nb[0][1], p1 = nb[0][0], p2 = nb[0][0];  // the first steps, as below
+    unsigned c0 = across[p0][a0], c1 = across[p1][a1], c2 = across[p2][a2];
+    std::uint32_t v0 = 1u | (1u << p0), v1 = 1u | (1u << p1), v2 = v1;
+    while ((c0 | c1 | c2) != 0) {
+      v0 |= 1u << c0;  // bit 0 for a walk already back: set from the start
+      v1 |= 1u << c1;
+      v2 |= 1u << c2;
+      const unsigned n0 = (across[c0][a0] ^ p0) & (0u - unsigned(c0 != 0));
+      const unsigned n1 = (across[c1][a1] ^ p1) & (0u - unsigned(c1 != 0));
+      const unsigned n2 = (across[c2][a2] ^ p2) & (0u - unsigned(c2 != 0));
+      p0 = c0, p1 = c1, p2 = c2;
+      c0 = n0, c1 = n1, c2 = n2;
+    }
+    if ((v0 ^ r.on_plane[a0]) | (v1 ^ r.on_plane[a1]) | (v2 ^ r.on_plane[a2])) return false;
+    r.num_facets = std::popcount(planes);
+    planes &= ~((1u << a0) | (1u << a1) | (1u << a2));
+    r.corner_apex = true;
+  } else if constexpr (kCornerApex) {
+    // The same facets, stored (a Polyhedron reads them): one walk after the other, each stored
+    // in its order. Corner 0 is the lowest corner on each, so it is where the walk starts.
     const u8* l = r.corners[0].labels;
     const unsigned apex_planes = (1u << l[0]) | (1u << l[1]) | (1u << l[2]);
     for (unsigned rest = apex_planes; rest; rest &= rest - 1) {
       const int a = std::countr_zero(rest);
       const int first = nb[0][l[0] == a ? 1 : 0];
-      if constexpr (kStore) {
-        r.facet_index[used++] = 0;
-        r.facet_index[used++] = static_cast<u8>(first);
-      }
+      r.facet_index[used++] = 0;
+      r.facet_index[used++] = static_cast<u8>(first);
       std::uint32_t visited = 1u | (1u << first);
       int prev = first, cur = across[first][a];  // across[first][a] ^ 0
       while (cur != 0) {
         visited |= 1u << cur;
-        if constexpr (kStore) r.facet_index[used++] = static_cast<u8>(cur);
+        r.facet_index[used++] = static_cast<u8>(cur);
         const int next = across[cur][a] ^ prev;
         prev = cur;
         cur = next;
       }
       if (visited != r.on_plane[a]) return false;
-      if constexpr (kStore) {
-        r.facet_volume6[r.num_facets] = 0.0;
-        r.facet_label[r.num_facets] = static_cast<u8>(a);
-        r.facet_begin[++r.num_facets] = static_cast<u8>(used);
-      }
+      r.facet_volume6[r.num_facets] = 0.0;
+      r.facet_label[r.num_facets] = static_cast<u8>(a);
+      r.facet_begin[++r.num_facets] = static_cast<u8>(used);
     }
-    if constexpr (!kStore) r.num_facets = std::popcount(planes);
     planes &= ~apex_planes;
     r.corner_apex = true;
   }
