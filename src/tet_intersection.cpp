@@ -606,9 +606,27 @@ class Kernel {
     const unsigned ex = fexist_[f];
     const bool exists[3] = {bit(ex, T.line[0]), bit(ex, T.line[1]), bit(ex, T.line[2])};
     int value[3] = {-1, -1, -1};
+    unsigned known = 0;  // bit s: slot s exists and its sign was inherited
     for (int s = 0; s < 3; ++s)
-      if (exists[s] && !bit(undecided_[f], 4 * T.line[s] + T.slot[s][2]))
+      if (exists[s] && !bit(undecided_[f], 4 * T.line[s] + T.slot[s][2])) {
         value[s] = bit(fsign_[f], 4 * T.line[s] + T.slot[s][2]);
+        known |= 1u << s;
+      }
+    if (!stats() && known == 0) {
+      // The usual case: no sign known. The existing slots are pairwise related (T.rel lists
+      // every pair), so the loop below computes the first existing slot's sign directly and
+      // gives each other existing slot its sign from that one's through their relation; the
+      // same, without the loop's searching.
+      const int s = exists[0] ? 0 : exists[1] ? 1 : 2;
+      const bool vs = direct_sign(f, T.slot[s][0], T.slot[s][1], T.slot[s][2]);
+      unsigned signs = unsigned(vs) << (4 * T.line[s] + T.slot[s][2]);
+      for (int t = s + 1; t < 3; ++t) {
+        const auto& R = T.rel[s + t - 1];  // the relation of slots s < t: (0,1), (0,2), (1,2)
+        signs |= unsigned(exists[t] && vs == pairing(f, R[2], R[3], R[4])) << (4 * T.line[t] + T.slot[t][2]);
+      }
+      fsign_[f] |= signs;
+      return;
+    }
     const int before[3] = {value[0], value[1], value[2]};
     for (;;) {
       // Propagate known signs along the relations (two passes settle a triangle).
@@ -1577,8 +1595,47 @@ bool solve_with(const MakeFrame& make_frame, Frame& fr, KernelResult& res, Inter
   return ok;
 }
 
+// Whether the bounding boxes of U and V are disjoint: some axis has max U < min V or
+// max V < min U, compared exactly on the input. A plane x = c (or y, z) then separates the two
+// strictly, and the intersection is empty: no map, no kernel. Boxes that touch are not disjoint;
+// the kernel decides those. NaN compares false and goes on to make_frame, which rejects it.
+bool boxes_disjoint(const Tet& U, const Tet& V) {
+#if TETIA_KERNEL_SSE2
+  __m128d u_lo = _mm_loadu_pd(&U[0].x), u_hi = u_lo, v_lo = _mm_loadu_pd(&V[0].x), v_hi = v_lo;  // (x, y)
+  __m128d uz_lo = _mm_load_sd(&U[0].z), uz_hi = uz_lo, vz_lo = _mm_load_sd(&V[0].z), vz_hi = vz_lo;
+  for (int k = 1; k < 4; ++k) {
+    const __m128d u = _mm_loadu_pd(&U[k].x), v = _mm_loadu_pd(&V[k].x);
+    const __m128d uz = _mm_load_sd(&U[k].z), vz = _mm_load_sd(&V[k].z);
+    u_lo = _mm_min_pd(u_lo, u), u_hi = _mm_max_pd(u_hi, u), v_lo = _mm_min_pd(v_lo, v), v_hi = _mm_max_pd(v_hi, v);
+    uz_lo = _mm_min_sd(uz_lo, uz), uz_hi = _mm_max_sd(uz_hi, uz), vz_lo = _mm_min_sd(vz_lo, vz), vz_hi = _mm_max_sd(vz_hi, vz);
+  }
+  const __m128d apart = _mm_or_pd(_mm_cmplt_pd(u_hi, v_lo), _mm_cmplt_pd(v_hi, u_lo));
+  const __m128d apart_z = _mm_or_pd(_mm_cmplt_sd(uz_hi, vz_lo), _mm_cmplt_sd(vz_hi, uz_lo));
+  return (_mm_movemask_pd(apart) | (_mm_movemask_pd(apart_z) & 1)) != 0;
+#else
+  bool apart = false;
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto coord = [axis](const Vec3& p) { return axis == 0 ? p.x : axis == 1 ? p.y : p.z; };
+    double u_lo = coord(U[0]), u_hi = u_lo, v_lo = coord(V[0]), v_hi = v_lo;
+    for (int k = 1; k < 4; ++k) {
+      u_lo = std::min(u_lo, coord(U[k])), u_hi = std::max(u_hi, coord(U[k]));
+      v_lo = std::min(v_lo, coord(V[k])), v_hi = std::max(v_hi, coord(V[k]));
+    }
+    apart |= u_hi < v_lo || v_hi < u_lo;
+  }
+  return apart;
+#endif
+}
+
+// The pairwise entry points' kernel call: a quick exit for disjoint bounding boxes, then
+// solve_with. Returns false when the intersection is empty for lack of a frame (see solve_with).
 template <bool kMoments, bool kFull>
 bool solve(const Tet& U, const Tet& V, Frame& fr, KernelResult& res, IntersectionStats* stats) {
+  if (boxes_disjoint(U, V)) {
+    res.num_corners = res.num_facets = 0;
+    res.ref_volume = 0.0;
+    return false;
+  }
   return solve_with<kMoments, kFull>([&](Frame& f, bool other) { return make_frame(U, V, f, other); }, fr, res,
                                      stats);
 }

@@ -214,6 +214,27 @@ TEST(Kernel, FlatAndNonFiniteInputGiveEmpty) {
   EXPECT_EQ(intersection_volume(inf, kRef), 0.0);
 }
 
+// Bounding boxes one ulp apart on one axis give the quick exit: empty, for every entry point
+// and both orders; boxes that touch go to the kernel, which finds the shared face: empty too,
+// and a copy moved back by that ulp overlaps again.
+TEST(Kernel, DisjointBoundingBoxesGiveEmpty) {
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto shifted = [&](double by) {
+      Tet t = kRef;
+      for (Vec3& p : t) (axis == 0 ? p.x : axis == 1 ? p.y : p.z) += by;
+      return t;
+    };
+    const Tet apart = shifted(std::nextafter(1.0, 2.0)), touching = shifted(1.0), overlapping = shifted(0.5);
+    for (const Tet* other : {&apart, &touching}) {
+      EXPECT_TRUE(intersect(kRef, *other).empty()) << axis;
+      EXPECT_TRUE(intersect(*other, kRef).empty()) << axis;
+      EXPECT_EQ(intersection_volume(kRef, *other), 0.0) << axis;
+      EXPECT_EQ(intersection_moments(*other, kRef).volume, 0.0) << axis;
+    }
+    EXPECT_NEAR(intersection_volume(kRef, overlapping), 0.125 / 6, 1e-16) << axis;
+  }
+}
+
 TEST(Kernel, EitherOrientationAccepted) {
   Tet flipped = kRef;
   std::swap(flipped[1], flipped[2]);
