@@ -255,6 +255,18 @@ constexpr KeepLanes make_keep_lanes() {
   return k;
 }
 constexpr KeepLanes kKeepLanes = make_keep_lanes();
+// kFlipLanes[s]: for a sign mask s, -0.0 in the lanes of the pairs (y, x) of
+// order_edge_by_pairs (in the order of kLines) whose y-bit in s is 0, else +0.0.
+struct FlipLanes {
+  alignas(16) double v[16][6];
+};
+constexpr FlipLanes make_flip_lanes() {
+  FlipLanes t{};
+  for (unsigned m = 0; m < 16; ++m)
+    for (int L = 0; L < 6; ++L) t.v[m][L] = bit(kPairLanes.y[m], L) ? 0.0 : -0.0;
+  return t;
+}
+constexpr FlipLanes kFlipLanes = make_flip_lanes();
 inline Quad zero4() { return {_mm_setzero_pd(), _mm_setzero_pd()}; }
 inline Quad load4(const double* p) { return {_mm_loadu_pd(p), _mm_loadu_pd(p + 2)}; }
 inline void store4(double* p, const Quad& q) {
@@ -444,7 +456,6 @@ class Kernel {
   // the crossed planes and the comparisons, the planes crossed before each plane (or that the
   // comparisons are not a total order).
   bool order_edge_by_pairs(int e, int i, int j, unsigned crossed) {
-    unsigned pos = 0, zero = 0;
 #if TETIA_KERNEL_SSE2
     // Lanes (0,1),(0,2) | (0,3),(1,2) | (1,3),(2,3): the same products and difference per
     // lane as the scalar loop below, two at a time.
@@ -454,22 +465,25 @@ class Kernel {
     const __m128d n0 = _mm_sub_pd(_mm_mul_pd(b[2], a[0]), _mm_mul_pd(a[2], b[0]));
     const __m128d n1 = _mm_sub_pd(_mm_mul_pd(b[3], a[1]), _mm_mul_pd(a[3], b[1]));
     const __m128d n2 = _mm_sub_pd(_mm_mul_pd(b[4], a[2]), _mm_mul_pd(a[4], b[2]));
-    pos = unsigned(_mm_movemask_pd(_mm_cmpgt_pd(n0, z))) | unsigned(_mm_movemask_pd(_mm_cmpgt_pd(n1, z))) << 2 |
-          unsigned(_mm_movemask_pd(_mm_cmpgt_pd(n2, z))) << 4;
-    zero = unsigned(_mm_movemask_pd(_mm_cmpeq_pd(n0, z))) | unsigned(_mm_movemask_pd(_mm_cmpeq_pd(n1, z))) << 2 |
-           unsigned(_mm_movemask_pd(_mm_cmpeq_pd(n2, z))) << 4;
+    // sign_x below in one comparison per register: with the sign of num flipped in the lanes
+    // where y_i < 0 (an exact negation), (num == 0 || (num > 0) == sign y_i) is num >= 0.
+    const double* flip = kFlipLanes.v[sm_[i]];
+    const unsigned sign_x = unsigned(_mm_movemask_pd(_mm_cmpge_pd(_mm_xor_pd(n0, _mm_load_pd(flip)), z))) |
+                            unsigned(_mm_movemask_pd(_mm_cmpge_pd(_mm_xor_pd(n1, _mm_load_pd(flip + 2)), z))) << 2 |
+                            unsigned(_mm_movemask_pd(_mm_cmpge_pd(_mm_xor_pd(n2, _mm_load_pd(flip + 4)), z))) << 4;
 #else
     const double* ci = C_[i];
     const double* cj = C_[j];
+    unsigned pos = 0, zero = 0;
     for (int L = 0; L < 6; ++L) {
       const int y = kLines[L][0], x = kLines[L][1];
       const double num = cj[x] * ci[y] - ci[x] * cj[y];
       pos |= unsigned(num > 0.0) << L;
       zero |= unsigned(num == 0.0) << L;
     }
+    const unsigned sign_x = zero | ~(pos ^ kPairLanes.y[sm_[i]]);
 #endif
     const unsigned si = sm_[i];
-    const unsigned sign_x = zero | ~(pos ^ kPairLanes.y[si]);
     const unsigned yx = ~(sign_x ^ kPairLanes.x[si]) & 63u;
     const unsigned earlier = kEdgeOrder.v[crossed][yx];
     if (earlier == kNotAnOrder) return false;
