@@ -377,9 +377,30 @@ class Kernel {
   // Runs Algorithm 2; fills `out` with the corners. Returns false when the signs contradict
   // each other, which the proof of Theorem 6 excludes; such contradictions are only looked for
   // when statistics are requested (the tests always request them).
-  bool run(KernelResult& out);
+  bool run(KernelResult& out) {
+    CornerList cl;
+    const bool consistent = run_steps(out, cl);
+    out.num_corners = cl.num_corners;
+    out.num_facets = 0;
+    for (int a = 0; a < 8; ++a) out.on_plane[a] = cl.on_plane[a];
+    return consistent;
+  }
 
   bool consistent() const { return consistent_; }
+
+ private:
+  // The corners' count and, per plane, the mask of the corners on it, while the corners are
+  // added: a local of run() rather than members of `out`, so that the compiler can keep them
+  // apart from the corners' byte-sized labels stored in between (a store through a char type
+  // may alias anything reachable, a local whose address stays in run() nothing).
+  struct CornerList {
+    int num_corners = 0;
+    std::uint32_t on_plane[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  };
+  // Algorithm 2 proper (see run).
+  [[gnu::always_inline]] inline bool run_steps(KernelResult& out, CornerList& cl);
+
+ public:
   void export_signs(KernelTrace& t) const;
 
  private:
@@ -679,12 +700,14 @@ class Kernel {
 
   // Appends a corner with its labels and returns it, for the caller to write its coordinates
   // (and, with kWeights, its weights) in place.
-  RawCorner& add_corner(KernelResult& out, int l0, int l1, int l2, u8 kind, int index) {
-    if (out.num_corners >= KernelResult::kMaxCorners) {  // impossible for a simple polytope
+  // The count and the planes' masks are kept in `cl`, a local of run() (see there), and copied
+  // to `out` when the kernel is done.
+  RawCorner& add_corner(KernelResult& out, CornerList& cl, int l0, int l1, int l2, u8 kind, int index) {
+    if (cl.num_corners >= KernelResult::kMaxCorners) {  // impossible for a simple polytope
       note_inconsistency();
       return overflow_;
     }
-    const int c = out.num_corners++;
+    const int c = cl.num_corners++;
     RawCorner& rc = out.corners[c];
     // Callers pass the labels ascending (faces of X first, then planes of Y, each ascending).
     rc.labels[0] = static_cast<u8>(l0);
@@ -693,9 +716,9 @@ class Kernel {
     rc.kind = kind;
     rc.index = static_cast<u8>(index);
     const std::uint32_t b = 1u << c;
-    out.on_plane[l0] |= b;
-    out.on_plane[l1] |= b;
-    out.on_plane[l2] |= b;
+    cl.on_plane[l0] |= b;
+    cl.on_plane[l1] |= b;
+    cl.on_plane[l2] |= b;
     return rc;
   }
 
@@ -819,10 +842,7 @@ class Kernel {
 };
 
 template <bool kWeights, bool kStats>
-bool Kernel<kWeights, kStats>::run(KernelResult& out) {
-  out.num_corners = 0;
-  out.num_facets = 0;
-  for (auto& m : out.on_plane) m = 0;
+bool Kernel<kWeights, kStats>::run_steps(KernelResult& out, CornerList& cl) {
 
   // Lines 2-6 (Snippet 2): an empty intersection if X lies on the negative side of a plane.
   // The same holds, for the volume, when no vertex is strictly on the positive side: X ∩ Y
@@ -835,7 +855,7 @@ bool Kernel<kWeights, kStats>::run(KernelResult& out) {
   // three faces of X that contain it.
   for (int i = 0; i < 4; ++i)
     if (sm_[i] == 0xF) {
-      RawCorner& rc = add_corner(out, kFaceVerts[i][0], kFaceVerts[i][1], kFaceVerts[i][2], kVertexOfX, i);
+      RawCorner& rc = add_corner(out, cl, kFaceVerts[i][0], kFaceVerts[i][1], kFaceVerts[i][2], kVertexOfX, i);
       const Quad q = load4(C_[i]);
       store4(rc.bary, q);
       guardrail(rc.bary, 0, nonneg_lanes(q));
@@ -853,7 +873,7 @@ bool Kernel<kWeights, kStats>::run(KernelResult& out) {
     const int e = bitpos >> 2, p = bitpos & 3;
     // Edge ij lies on the two faces of X opposite the vertices it does not contain, which are
     // the vertices of the opposite edge 5 - e.
-    RawCorner& rc = add_corner(out, tet_edges[5 - e][0], tet_edges[5 - e][1], 4 + p, kEdgeOfX, e * 4 + p);
+    RawCorner& rc = add_corner(out, cl, tet_edges[5 - e][0], tet_edges[5 - e][1], 4 + p, kEdgeOfX, e * 4 + p);
     edge_corner_coords(e, p, rc.bary, rc.weights);
   }
 
@@ -885,7 +905,7 @@ bool Kernel<kWeights, kStats>::run(KernelResult& out) {
     for (unsigned rest = full & kLineNibbles[fexist_[f]]; rest; rest &= rest - 1) {  // bit 4L
       const int L = std::countr_zero(rest) >> 2;
       const int a = kLines[L][0], b = kLines[L][1];
-      RawCorner& rc = add_corner(out, f, 4 + a, 4 + b, kFaceOfX, f * 8 + L);
+      RawCorner& rc = add_corner(out, cl, f, 4 + a, 4 + b, kFaceOfX, f * 8 + L);
       face_corner_coords(f, a, b, rc.bary, rc.weights);
     }
   }
@@ -920,7 +940,7 @@ bool Kernel<kWeights, kStats>::run(KernelResult& out) {
     for (; inside; inside &= inside - 1) {
       const int t = std::countr_zero(inside);
       const int l0 = t == 0 ? 5 : 4, l1 = t <= 1 ? 6 : 5, l2 = t == 3 ? 6 : 7;
-      RawCorner& rc = add_corner(out, l0, l1, l2, kVertexOfY, t);
+      RawCorner& rc = add_corner(out, cl, l0, l1, l2, kVertexOfY, t);
       for (int p = 0; p < 4; ++p) rc.bary[p] = rc.weights[p] = p == t ? 1.0 : 0.0;  // weights unknown here (see fill())
     }
     return consistent_;
@@ -943,7 +963,7 @@ bool Kernel<kWeights, kStats>::run(KernelResult& out) {
     }
     if (inside == 1) {
       const int l0 = t == 0 ? 5 : 4, l1 = t <= 1 ? 6 : 5, l2 = t == 3 ? 6 : 7;
-      RawCorner& rc = add_corner(out, l0, l1, l2, kVertexOfY, t);
+      RawCorner& rc = add_corner(out, cl, l0, l1, l2, kVertexOfY, t);
       for (int p = 0; p < 4; ++p) rc.bary[p] = rc.weights[p] = p == t ? 1.0 : 0.0;  // weights unknown here (see fill())
     }
   }
