@@ -377,7 +377,7 @@ class Kernel {
   // Runs Algorithm 2; fills `out` with the corners. Returns false when the signs contradict
   // each other, which the proof of Theorem 6 excludes; such contradictions are only looked for
   // when statistics are requested (the tests always request them).
-  bool run(KernelResult& out) {
+  [[gnu::always_inline]] bool run(KernelResult& out) {
     CornerList cl;
     const bool consistent = run_steps(out, cl);
     out.num_corners = cl.num_corners;
