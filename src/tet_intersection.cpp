@@ -729,23 +729,28 @@ class Kernel {
   // (one choice in the spirit of Table 4).
   // nonneg: bit p set if b[p] >= 0 (nonneg_lanes of the values just stored in b).
   void guardrail(double (&b)[4], unsigned zero_mask, unsigned nonneg) {
-    if (nonneg == 0xF) return;  // the usual case: nothing to clamp, as below
+    // The usual case, nothing to clamp, without a call (and the rare one out of the way).
+    if (nonneg != 0xF) [[unlikely]]
+      if (clamp_to_simplex(b, zero_mask) && stats()) ++stats()->guardrail_clamps;
+  }
+  // The clamping of guardrail; returns whether a coordinate was clamped.
+  [[gnu::noinline]] static bool clamp_to_simplex(double (&b)[4], unsigned zero_mask) {
     bool clamped = false;
     for (int p = 0; p < 4; ++p)
       if (!(b[p] >= 0.0)) {  // also catches NaN; the zero coordinates are exact zeros already
         b[p] = 0.0;
         clamped = true;
       }
-    if (!clamped) return;  // computed coordinates sum to 1 up to rounding: left as they are
-    if (stats()) ++stats()->guardrail_clamps;
+    if (!clamped) return false;  // computed coordinates sum to 1 up to rounding: left as they are
     const double sum = b[0] + b[1] + b[2] + b[3];
     if (sum > 0.0 && sum < INFINITY) {
       const double inv = 1.0 / sum;
       for (double& x : b) x *= inv;
-      return;
+      return true;
     }
     const int free = 4 - std::popcount(zero_mask & 0xFu);
     for (int p = 0; p < 4; ++p) b[p] = bit(zero_mask, p) ? 0.0 : 1.0 / free;
+    return true;
   }
 
   // The point where edge (s, o) of X meets P_p, s the vertex with p >= 0 and o the one with
