@@ -1509,15 +1509,15 @@ bool frame_from(const Tet& U, const Conditioning& cu, const BarycentricMap* map_
   }
   use_u = use_u != other_reference;
   fr.swapped = use_u;
-  const Tet* const both[2] = {&U, &V};  // indexed, not branched on: the choice is data
-  const double dets[2] = {cu.det6, cv.det6}, invs[2] = {cu.inv_det6, cv.inv_det6};
-  fr.sub = both[use_u];
-  fr.ref = both[!use_u];
-  fr.det6 = dets[!use_u];
+  // Selected, not branched on: the choice is data (conditional moves, not a table on the stack,
+  // whose store and load would lengthen the path to the map).
+  fr.sub = use_u ? &V : &U;
+  fr.ref = use_u ? &U : &V;
+  fr.det6 = use_u ? cu.det6 : cv.det6;
   if (use_u && map_u) {
     for (int i = 0; i < 4; ++i) (*map_u)((*fr.sub)[i], fr.C[i]);
   } else {
-    const BarycentricMap bary(*fr.ref, invs[!use_u]);
+    const BarycentricMap bary(*fr.ref, use_u ? cu.inv_det6 : cv.inv_det6);
     for (int i = 0; i < 4; ++i) bary((*fr.sub)[i], fr.C[i]);
   }
   // The sum of 0 * coordinate stays 0 unless a coordinate is infinite or NaN (in any order).
