@@ -854,7 +854,9 @@ bool Kernel<kWeights, kStats>::run_steps(KernelResult& out, CornerList& cl) {
   // then lies in the plane. That is the case of two tetrahedra sharing a face from opposite
   // sides, whose shared vertices have coordinate exactly 0 (BarycentricMap); the answer is
   // then exactly zero instead of a flat sliver of rounding-sized volume.
-  if ((sm_[0] | sm_[1] | sm_[2] | sm_[3]) != 0xF || (pm_[0] | pm_[1] | pm_[2] | pm_[3]) != 0xF) return true;
+  // (Without statistics the kernel runs only from run_kernel, which has made this test on C
+  // already: pm_ covering every plane implies sm_ does.)
+  if (kStats && ((sm_[0] | sm_[1] | sm_[2] | sm_[3]) != 0xF || (pm_[0] | pm_[1] | pm_[2] | pm_[3]) != 0xF)) return true;
 
   // Vertices of X inside Y: all four binary signs are 1 (Section 3.1). A vertex lies on the
   // three faces of X that contain it.
@@ -1106,6 +1108,13 @@ bool build_facets(KernelResult& r) {
   static_assert(kStore || kCornerApex);
   r.corner_apex = false;
   const int n = r.num_corners;
+  if (n == 0) {  // nothing found (X and Y apart): as the label walk leaves it, without the call
+    r.num_facets = 0;
+    r.facet_begin[0] = 0;
+    r.ref_volume = 0.0;
+    r.ref_first[0] = r.ref_first[1] = r.ref_first[2] = 0.0;
+    return true;
+  }
   if (n < 4) return facets_by_label_walk<kMode>(r);
   u8 nb[KernelResult::kMaxCorners][2];  // nb[c][0], nb[c][1]: across the edges off l0, off l1
   u8 across[KernelResult::kMaxCorners][8];  // [c][a]: xor of c's two neighbours on facet a
