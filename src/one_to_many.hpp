@@ -17,9 +17,8 @@ namespace tetia::detail {
 
 /// What the kernel uses to choose the reference tetrahedron (src/tet_intersection.cpp,
 /// make_frame): the shape quality |det| / (sum of squared edge lengths)^(3/2), and det6, six
-/// times the signed volume, with its inverse (computed alongside, off the path from the choice
-/// of the reference to its map). conditioning() fills every field; the pairwise entry points
-/// leave `quality` unset, as the choice compares det6_sq s_cubed products (frame_from).
+/// times the signed volume, with its inverse (computed alongside the quality, off the path from
+/// the choice of the reference to its map).
 struct Conditioning {
   double quality = 0.0;
   double det6 = 0.0;
@@ -27,7 +26,6 @@ struct Conditioning {
   // det6^2 and s^3, s the sum of squared edge lengths: quality^2 is their quotient, so that two
   // qualities compare by products, without waiting for the square root and the division.
   double det6_sq = 0.0;
-  double s = 0.0;
   double s_cubed = 0.0;
 };
 

@@ -1432,7 +1432,6 @@ Conditioning shape_quality(const Tet& t) {
   c.quality = std::abs(c.det6) / (s * std::sqrt(s));
   c.inv_det6 = 1.0 / c.det6;
   c.det6_sq = c.det6 * c.det6;
-  c.s = s;
   c.s_cubed = s * s * s;
   return c;
 }
@@ -1442,9 +1441,6 @@ Conditioning shape_quality(const Tet& t) {
 // and V in the high one; with 1 / det6 of each, which the barycentric map of the one chosen as
 // the reference needs (the same division, done here in parallel with the quality's instead of
 // after the choice).
-// kQuality: the qualities themselves too (the pairwise kernel compares them by products and
-// needs them only where those leave the normal range; see frame_from).
-template <bool kQuality>
 void shape_qualities(const Tet& U, const Tet& V, Conditioning& cu, Conditioning& cv) {
 #if TETIA_KERNEL_SSE2
   __m128d x[4], y[4], z[4];
@@ -1474,30 +1470,22 @@ void shape_qualities(const Tet& U, const Tet& V, Conditioning& cu, Conditioning&
   s = _mm_add_pd(s, dot2(e4, e4));
   s = _mm_add_pd(s, dot2(e5, e5));
   s = _mm_add_pd(s, dot2(e6, e6));
+  const __m128d q = _mm_div_pd(_mm_andnot_pd(_mm_set1_pd(-0.0), det6), _mm_mul_pd(s, _mm_sqrt_pd(s)));
   const __m128d inv = _mm_div_pd(_mm_set1_pd(1.0), det6);
   const __m128d d2 = _mm_mul_pd(det6, det6), s3 = _mm_mul_pd(_mm_mul_pd(s, s), s);
-  double dd[2], ii[2], d2d[2], ss[2], s3d[2];
+  double qq[2], dd[2], ii[2], d2d[2], s3d[2];
+  _mm_storeu_pd(qq, q);
   _mm_storeu_pd(dd, det6);
   _mm_storeu_pd(ii, inv);
   _mm_storeu_pd(d2d, d2);
-  _mm_storeu_pd(ss, s);
   _mm_storeu_pd(s3d, s3);
-  cu.det6 = dd[0], cv.det6 = dd[1], cu.inv_det6 = ii[0], cv.inv_det6 = ii[1];
-  cu.det6_sq = d2d[0], cv.det6_sq = d2d[1], cu.s = ss[0], cv.s = ss[1], cu.s_cubed = s3d[0], cv.s_cubed = s3d[1];
-  if constexpr (kQuality) {
-    const __m128d q = _mm_div_pd(_mm_andnot_pd(_mm_set1_pd(-0.0), det6), _mm_mul_pd(s, _mm_sqrt_pd(s)));
-    double qq[2];
-    _mm_storeu_pd(qq, q);
-    cu.quality = qq[0], cv.quality = qq[1];
-  }
+  cu.quality = qq[0], cv.quality = qq[1], cu.det6 = dd[0], cv.det6 = dd[1], cu.inv_det6 = ii[0], cv.inv_det6 = ii[1];
+  cu.det6_sq = d2d[0], cv.det6_sq = d2d[1], cu.s_cubed = s3d[0], cv.s_cubed = s3d[1];
 #else
   cu = shape_quality(U);
   cv = shape_quality(V);
 #endif
 }
-
-// The shape quality from det6 and s, as shape_qualities computes it (the same operations).
-double quality_of(const Conditioning& c) { return std::abs(c.det6) / (c.s * std::sqrt(c.s)); }
 
 // The frame of the reference tetrahedron and X's barycentric coordinates in it.
 struct Frame {
@@ -1513,20 +1501,16 @@ struct Frame {
 // same map: the same constructor on the same data).
 bool frame_from(const Tet& U, const Conditioning& cu, const BarycentricMap* map_u, const Tet& V,
                 const Conditioning& cv, Frame& fr, bool other_reference) {
+  const double qU = cu.quality, qV = cv.quality;
+  // Non-finite coordinates make a quality NaN or infinite; flat ones make it zero.
+  if (!(qU > 0.0) || !(qV > 0.0) || !(qU < INFINITY) || !(qV < INFINITY)) return false;
   // With q^2 = det6^2 / s^3, qU > qV is det6U^2 sV^3 > det6V^2 sU^3: products only, so the
-  // choice, and the map that waits for it, need not wait for square roots and divisions. Where
-  // the products leave the normal range (edges beyond about 1e25 or below 1e-25) the qualities
-  // themselves are compared. The two sides are swapped with U and V, so (U, V) and (V, U)
-  // still choose the same reference. Products in range imply that both tetrahedra are finite
-  // and not flat (their qualities positive and finite); otherwise the qualities decide that:
-  // non-finite coordinates make a quality NaN or infinite, flat ones make it zero.
+  // choice, and the map that waits for it, need not wait for the square roots and divisions of
+  // the qualities. Where the products leave the normal range (edges beyond about 1e25 or below
+  // 1e-25) the qualities themselves are compared. The two sides are swapped with U and V, so
+  // (U, V) and (V, U) still choose the same reference.
   const double lhs = cu.det6_sq * cv.s_cubed, rhs = cv.det6_sq * cu.s_cubed;
   const bool products_fit = lhs >= 0x1p-1000 && rhs >= 0x1p-1000 && lhs < 0x1p1000 && rhs < 0x1p1000;
-  double qU = 0.0, qV = 0.0;
-  if (!products_fit) [[unlikely]] {
-    qU = quality_of(cu), qV = quality_of(cv);
-    if (!(qU > 0.0) || !(qV > 0.0) || !(qU < INFINITY) || !(qV < INFINITY)) return false;
-  }
   bool use_u = products_fit ? lhs > rhs : qU > qV;
   if (products_fit ? lhs == rhs : qU == qV) {
     const double* pu = &U[0].x;
@@ -1566,7 +1550,7 @@ bool frame_from(const Tet& U, const Conditioning& cu, const BarycentricMap* map_
 // Returns false for flat or non-finite input: the intersection is then empty.
 bool make_frame(const Tet& U, const Tet& V, Frame& fr, bool other_reference = false) {
   Conditioning cu, cv;
-  shape_qualities<false>(U, V, cu, cv);
+  shape_qualities(U, V, cu, cv);
   return frame_from(U, cu, nullptr, V, cv, fr, other_reference);
 }
 
@@ -1720,11 +1704,11 @@ Moments original_moments(const Frame& fr, const KernelResult& res) {
 
 Conditioning conditioning(const Tet& t) {
   Conditioning c, unused;  // both lanes compute t: lane for lane what a pair computes
-  shape_qualities<true>(t, t, c, unused);
+  shape_qualities(t, t, c, unused);
   return c;
 }
 
-void conditioning(const Tet& a, const Tet& b, Conditioning& ca, Conditioning& cb) { shape_qualities<true>(a, b, ca, cb); }
+void conditioning(const Tet& a, const Tet& b, Conditioning& ca, Conditioning& cb) { shape_qualities(a, b, ca, cb); }
 
 OneToMany::OneToMany(const Tet& s) : s_(s), cs_(conditioning(s)), map_(s, cs_.inv_det6) {}
 
