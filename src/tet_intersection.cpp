@@ -848,7 +848,6 @@ class Kernel {
 
 template <bool kWeights, bool kStats>
 bool Kernel<kWeights, kStats>::run_steps(KernelResult& out, CornerList& cl) {
-
   // Lines 2-6 (Snippet 2): an empty intersection if X lies on the negative side of a plane.
   // The same holds, for the volume, when no vertex is strictly on the positive side: X ∩ Y
   // then lies in the plane. That is the case of two tetrahedra sharing a face from opposite
@@ -1647,7 +1646,8 @@ bool solve_with(const MakeFrame& make_frame, Frame& fr, KernelResult& res, Inter
 // Whether the bounding boxes of U and V are disjoint: some axis has max U < min V or
 // max V < min U, compared exactly on the input. A plane x = c (or y, z) then separates the two
 // strictly, and the intersection is empty: no map, no kernel. Boxes that touch are not disjoint;
-// the kernel decides those. NaN compares false and goes on to make_frame, which rejects it.
+// the kernel decides those. NaN compares false; non-finite input is empty either way (if no
+// axis separates it here, make_frame rejects it).
 bool boxes_disjoint(const Tet& U, const Tet& V) {
 #if TETIA_KERNEL_SSE2
   __m128d u_lo = _mm_loadu_pd(&U[0].x), u_hi = u_lo, v_lo = _mm_loadu_pd(&V[0].x), v_hi = v_lo;  // (x, y)
