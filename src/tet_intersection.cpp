@@ -1656,7 +1656,8 @@ bool boxes_disjoint(const Tet& U, const Tet& V) {
     const __m128d u = _mm_loadu_pd(&U[k].x), v = _mm_loadu_pd(&V[k].x);
     const __m128d uz = _mm_load_sd(&U[k].z), vz = _mm_load_sd(&V[k].z);
     u_lo = _mm_min_pd(u_lo, u), u_hi = _mm_max_pd(u_hi, u), v_lo = _mm_min_pd(v_lo, v), v_hi = _mm_max_pd(v_hi, v);
-    uz_lo = _mm_min_sd(uz_lo, uz), uz_hi = _mm_max_sd(uz_hi, uz), vz_lo = _mm_min_sd(vz_lo, vz), vz_hi = _mm_max_sd(vz_hi, vz);
+    uz_lo = _mm_min_sd(uz_lo, uz), uz_hi = _mm_max_sd(uz_hi, uz);
+    vz_lo = _mm_min_sd(vz_lo, vz), vz_hi = _mm_max_sd(vz_hi, vz);
   }
   const __m128d apart = _mm_or_pd(_mm_cmplt_pd(u_hi, v_lo), _mm_cmplt_pd(v_hi, u_lo));
   const __m128d apart_z = _mm_or_pd(_mm_cmplt_sd(uz_hi, vz_lo), _mm_cmplt_sd(vz_hi, uz_lo));
