@@ -790,8 +790,9 @@ class Kernel {
   // - the sum is at least 2^-4 of the sum of the six products' magnitudes: each minor's
   //   rounding error is at most about 2 eps times its products, so the weights are then
   //   accurate to a few dozen ulps;
-  // - the sum and the products are far from underflow and overflow (the bounds above hold, and
-  //   1 / sum is finite).
+  // - the sum and the products are far from underflow and overflow: the bounds above hold,
+  //   1 / sum is finite, and the sign test's products (minor times sum) cannot underflow to
+  //   zero with a minor of the wrong sign unless that minor is below 2^-74 of the sum.
   // Otherwise it returns false, and eq. (4) decides (face_corner_coords). Where a face contains
   // the line, eq. (5) is 0/0; its minors then cancel to rounding noise and fail the second test.
   // The tests are combined without short-circuits: the sum's sign is data, and a branch on it
@@ -810,7 +811,7 @@ class Kernel {
                        (std::abs(p_ij) + std::abs(q_ij));
     const double size = std::abs(den);
     const bool same_sign = (m_jk * den >= 0.0) & (m_ki * den >= 0.0) & (m_ij * den >= 0.0);
-    if (!(same_sign & (size >= 0x1p-4 * mag) & (size >= 0x1p-960) & (mag < 0x1p960))) return false;
+    if (!(same_sign & (size >= 0x1p-4 * mag) & (size >= 0x1p-500) & (mag < 0x1p960))) return false;
     const double inv = 1.0 / den;
     const double li = m_jk * inv, lj = m_ki * inv, lk = m_ij * inv;
     const Quad qi = load4(ci), qj = load4(cj), qk = load4(ck);
