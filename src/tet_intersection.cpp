@@ -233,6 +233,15 @@ struct KernelResult {
   double coordinate_scale = 1.0;          // largest |coordinate| of X's vertices
   double ref_volume = 0.0;                // volume in the reference frame (Y has volume 1/6)
   double ref_first[3] = {0.0, 0.0, 0.0};  // first moments in the reference frame
+
+  // The empty result: no corners, no facets, zero volume and moments.
+  void set_empty() {
+    num_corners = 0;
+    num_facets = 0;
+    facet_begin[0] = 0;
+    ref_volume = 0.0;
+    ref_first[0] = ref_first[1] = ref_first[2] = 0.0;
+  }
 };
 
 namespace {
@@ -793,11 +802,13 @@ class Kernel {
   // - the sum and the products are far from underflow and overflow: the bounds above hold,
   //   1 / sum is finite, and the sign test's products (minor times sum) cannot underflow to
   //   zero with a minor of the wrong sign unless that minor is below 2^-74 of the sum.
-  // Otherwise it returns false, and eq. (4) decides (face_corner_coords). Where a face contains
-  // the line, eq. (5) is 0/0; its minors then cancel to rounding noise and fail the second test.
+  // Leaves the point in res (the coordinates a and b not yet cleared) and, with kWeights, the
+  // weights in w. Otherwise it returns false, and eq. (4) decides (face_corner_coords). Where a
+  // face contains the line, eq. (5) is 0/0; its minors then cancel to rounding noise and fail
+  // the second test.
   // The tests are combined without short-circuits: the sum's sign is data, and a branch on it
   // was mispredicted often enough to cost 5 % of intersection_volume.
-  bool face_corner_by_eq5(int f, int a, int b, double (&out)[4], double (&w)[4]) {
+  bool face_corner_by_eq5(int f, int a, int b, Quad& res, double (&w)[4]) const {
     const int i = kFaceVerts[f][0], j = kFaceVerts[f][1], k = kFaceVerts[f][2];
     const double* ci = C_[i];
     const double* cj = C_[j];
@@ -817,22 +828,17 @@ class Kernel {
     const Quad qi = load4(ci), qj = load4(cj), qk = load4(ck);
 #if TETIA_KERNEL_SSE2
     const __m128d Li = _mm_set1_pd(li), Lj = _mm_set1_pd(lj), Lk = _mm_set1_pd(lk);
-    Quad res{_mm_add_pd(_mm_add_pd(_mm_mul_pd(Li, qi.lo), _mm_mul_pd(Lj, qj.lo)), _mm_mul_pd(Lk, qk.lo)),
+    res = Quad{_mm_add_pd(_mm_add_pd(_mm_mul_pd(Li, qi.lo), _mm_mul_pd(Lj, qj.lo)), _mm_mul_pd(Lk, qk.lo)),
              _mm_add_pd(_mm_add_pd(_mm_mul_pd(Li, qi.hi), _mm_mul_pd(Lj, qj.hi)), _mm_mul_pd(Lk, qk.hi))};
 #else
-    Quad res;
     for (int q = 0; q < 4; ++q) res.v[q] = (li * qi.v[q] + lj * qj.v[q]) + lk * qk.v[q];
 #endif
-    res = clear_lanes(res, (1u << a) | (1u << b));
-    store4(out, res);
     if constexpr (kWeights) {
       w[f] = 0.0;
       w[i] = li;
       w[j] = lj;
       w[k] = lk;
     }
-    if (stats()) stats()->corner_coordinates += 2;
-    guardrail(out, (1u << a) | (1u << b), nonneg_lanes(res));
     return true;
   }
 
@@ -846,8 +852,16 @@ class Kernel {
   // per corner, so the choice cannot make two parts of the algorithm disagree; the decisions
   // were all taken on signs.
   void face_corner_coords(int f, int a, int b, double (&out)[4], double (&w)[4]) {
-    if (face_corner_by_eq5(f, a, b, out, w)) return;
-    Quad res = zero4();  // set by the first view below
+    Quad res;
+    if (!face_corner_by_eq5(f, a, b, res, w)) face_corner_by_eq4(f, a, b, res, w);
+    res = clear_lanes(res, (1u << a) | (1u << b));
+    store4(out, res);
+    if (stats()) stats()->corner_coordinates += 2;
+    guardrail(out, (1u << a) | (1u << b), nonneg_lanes(res));
+  }
+  // Eq. (4) as described above: the point in res (a and b not yet cleared), the weights in w.
+  void face_corner_by_eq4(int f, int a, int b, Quad& res, double (&w)[4]) const {
+    res = zero4();  // set by the first view below
     if constexpr (kWeights)
       for (int q = 0; q < 4; ++q) w[q] = 0.0;
     double best = -1.0;
@@ -876,10 +890,6 @@ class Kernel {
       if constexpr (kWeights)
         for (int q = 0; q < 4; ++q) w[q] = ws[q] + t * (wo[q] - ws[q]);
     }
-    res = clear_lanes(res, (1u << a) | (1u << b));
-    store4(out, res);
-    if (stats()) stats()->corner_coordinates += 2;
-    guardrail(out, (1u << a) | (1u << b), nonneg_lanes(res));
   }
 
   const double (&C_)[4][4];  // X's barycentric coordinates, row i = vertex x_i
@@ -1167,10 +1177,7 @@ bool build_facets(KernelResult& r) {
   r.corner_apex = false;
   const int n = r.num_corners;
   if (n == 0) {  // nothing found (X and Y apart): as the label walk leaves it, without the call
-    r.num_facets = 0;
-    r.facet_begin[0] = 0;
-    r.ref_volume = 0.0;
-    r.ref_first[0] = r.ref_first[1] = r.ref_first[2] = 0.0;
+    r.set_empty();
     return true;
   }
   if (n < 4) return facets_by_label_walk<kMode>(r);
@@ -1636,12 +1643,8 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
     for (int p = 0; p < 4; ++p) positive |= unsigned(C[i][p] > 0.0) << p;
 #endif
   if (positive != 0xFu) {
-    res.num_corners = 0;
-    res.num_facets = 0;
-    res.facet_begin[0] = 0;
+    res.set_empty();
     res.contradiction = false;
-    res.ref_volume = 0.0;
-    res.ref_first[0] = res.ref_first[1] = res.ref_first[2] = 0.0;
     return true;
   }
   if (stats) {
@@ -1670,10 +1673,7 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
   // Only a Polyhedron reads the facets and their fan volumes.
   const bool ok = build_facets<kMoments ? kFacetsMoments : kFacetsVolume, true, kFull>(res);
   if (!ok) {
-    res.num_corners = 0;
-    res.num_facets = 0;
-    res.ref_volume = 0.0;
-    res.ref_first[0] = res.ref_first[1] = res.ref_first[2] = 0.0;
+    res.set_empty();
     return false;
   }
   return true;
@@ -1688,8 +1688,7 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
 template <bool kMoments, bool kFull, class MakeFrame>
 bool solve_with(const MakeFrame& make_frame, Frame& fr, KernelResult& res, IntersectionStats* stats) {
   if (!make_frame(fr, false)) {
-    res.num_corners = res.num_facets = 0;
-    res.ref_volume = 0.0;
+    res.set_empty();
     return false;
   }
   if (stats && fr.swapped) ++stats->reference_swaps;
@@ -1741,8 +1740,7 @@ bool boxes_disjoint(const Tet& U, const Tet& V) {
 template <bool kMoments, bool kFull>
 bool solve(const Tet& U, const Tet& V, Frame& fr, KernelResult& res, IntersectionStats* stats) {
   if (boxes_disjoint(U, V)) {
-    res.num_corners = res.num_facets = 0;
-    res.ref_volume = 0.0;
+    res.set_empty();
     return false;
   }
   return solve_with<kMoments, kFull>([&](Frame& f, bool other) { return make_frame(U, V, f, other); }, fr, res,
