@@ -214,6 +214,9 @@ struct RawCorner {
   u8 labels[3];
   u8 kind;
   u8 index;  // vertex of X, edge * 4 + plane, face * 8 + line, or vertex of Y
+  // The guardrail moved the corner (clamped a coordinate): the weights on X's vertices describe
+  // the point before the move and are not used (see PolyhedronBuilder::fill).
+  bool moved;
 };
 
 // Everything the kernel produces; no heap. Facets are cycles over corner indices, in the
@@ -723,6 +726,7 @@ class Kernel {
     rc.labels[1] = static_cast<u8>(l1);
     rc.labels[2] = static_cast<u8>(l2);
     rc.kind = kind;
+    rc.moved = false;
     rc.index = static_cast<u8>(index);
     const std::uint32_t b = 1u << c;
     cl.on_plane[l0] |= b;
@@ -737,10 +741,16 @@ class Kernel {
   // lies on stay exactly 0. If nothing is left, the midpoint of the admissible coordinates
   // (one choice in the spirit of Table 4).
   // nonneg: bit p set if b[p] >= 0 (nonneg_lanes of the values just stored in b).
-  void guardrail(double (&b)[4], unsigned zero_mask, unsigned nonneg) {
+  // Returns whether the point was moved.
+  bool guardrail(double (&b)[4], unsigned zero_mask, unsigned nonneg) {
     // The usual case, nothing to clamp, without a call (and the rare one out of the way).
-    if (nonneg != 0xF) [[unlikely]]
-      if (clamp_to_simplex(b, zero_mask) && stats()) ++stats()->guardrail_clamps;
+    if (nonneg != 0xF) [[unlikely]] {
+      if (clamp_to_simplex(b, zero_mask)) {
+        if (stats()) ++stats()->guardrail_clamps;
+        return true;
+      }
+    }
+    return false;
   }
   // The clamping of guardrail; returns whether a coordinate was clamped.
   [[gnu::noinline]] static bool clamp_to_simplex(double (&b)[4], unsigned zero_mask) {
@@ -781,11 +791,11 @@ class Kernel {
   }
 
   // Coordinates of the corner where edge e meets P_p.
-  void edge_corner_coords(int e, int p, double (&b)[4], double (&w)[4]) {
-    const Quad q = edge_point(tet_edges[e][0], tet_edges[e][1], p, w);
-    store4(b, q);
+  void edge_corner_coords(int e, int p, RawCorner& rc) {
+    const Quad q = edge_point(tet_edges[e][0], tet_edges[e][1], p, rc.weights);
+    store4(rc.bary, q);
     if (stats()) stats()->corner_coordinates += 3;
-    guardrail(b, 1u << p, nonneg_lanes(q));
+    rc.moved = guardrail(rc.bary, 1u << p, nonneg_lanes(q));
   }
 
   // Eq. (5) for the corner where face f = (i, j, k) of X meets P_a ∩ P_b, where it is well
@@ -851,13 +861,13 @@ class Kernel {
   // P_b) the one in P_a is used unless it is nearly parallel to the line; then the steeper. The point's value is computed once
   // per corner, so the choice cannot make two parts of the algorithm disagree; the decisions
   // were all taken on signs.
-  void face_corner_coords(int f, int a, int b, double (&out)[4], double (&w)[4]) {
+  void face_corner_coords(int f, int a, int b, RawCorner& rc) {
     Quad res;
-    if (!face_corner_by_eq5(f, a, b, res, w)) face_corner_by_eq4(f, a, b, res, w);
+    if (!face_corner_by_eq5(f, a, b, res, rc.weights)) face_corner_by_eq4(f, a, b, res, rc.weights);
     res = clear_lanes(res, (1u << a) | (1u << b));
-    store4(out, res);
+    store4(rc.bary, res);
     if (stats()) stats()->corner_coordinates += 2;
-    guardrail(out, (1u << a) | (1u << b), nonneg_lanes(res));
+    rc.moved = guardrail(rc.bary, (1u << a) | (1u << b), nonneg_lanes(res));
   }
   // Eq. (4) as described above: the point in res (a and b not yet cleared), the weights in w.
   void face_corner_by_eq4(int f, int a, int b, Quad& res, double (&w)[4]) const {
@@ -949,7 +959,7 @@ bool Kernel<kWeights, kStats>::run_steps(KernelResult& out, CornerList& cl) {
     // Edge ij lies on the two faces of X opposite the vertices it does not contain, which are
     // the vertices of the opposite edge 5 - e.
     RawCorner& rc = add_corner(out, cl, tet_edges[5 - e][0], tet_edges[5 - e][1], 4 + p, kEdgeOfX, e * 4 + p);
-    edge_corner_coords(e, p, rc.bary, rc.weights);
+    edge_corner_coords(e, p, rc);
   }
 
   // Line 18: faces of X against lines of Y.
@@ -981,7 +991,7 @@ bool Kernel<kWeights, kStats>::run_steps(KernelResult& out, CornerList& cl) {
       const int L = std::countr_zero(rest) >> 2;
       const int a = kLines[L][0], b = kLines[L][1];
       RawCorner& rc = add_corner(out, cl, f, 4 + a, 4 + b, kFaceOfX, f * 8 + L);
-      face_corner_coords(f, a, b, rc.bary, rc.weights);
+      face_corner_coords(f, a, b, rc);
     }
   }
 
@@ -1915,8 +1925,12 @@ struct PolyhedronBuilder {
         // The reference was U: V's coordinates come from the point itself, with the coordinates
         // of V's planes the corner lies on set to exactly zero, then clamped into the simplex
         // (the corner is on V by construction).
+        // Where the guardrail moved the corner, its weights describe the point before the move
+        // (in the issue that found it, a point on the line of an edge of U lying in a face of
+        // V, 0.25 of V's diameter away): V's coordinates then come from the point, as for a
+        // vertex of Y, so that point and coordinates describe one position.
         double b[4];
-        if (rc.kind != detail::kVertexOfY) {
+        if (rc.kind != detail::kVertexOfY && !rc.moved) {
           for (int p = 0; p < 4; ++p) b[p] = rc.weights[p];  // X is V: its weights are V's coordinates
         } else {
           if (!have_bary_v) {

@@ -12,6 +12,9 @@
 //    pairs: p's planes go through V's edges): exact > 1e-14 max(|U|, |V_k|) (the resolution of
 //    the arithmetic, see test_kernel_vs_exact.cpp) implies non-empty with volume > 0, exact 0
 //    implies volume <= 1e-15 of the family's volume scale;
+//  - on every polyhedron produced above: each corner's barycentric coordinates in V give its
+//    point (to 1e-12 of the diameter) and are exactly 0 on the planes of V it is labelled with
+//    (check_corners);
 //  - on every polyhedron produced above: structure (labels, facets as single cycles, Euler
 //    V - E + F = 2, E == 3V/2, each corner on exactly the facets of its labels, each edge walked
 //    once in each direction), outward orientation (fan volumes from an arbitrary point add up
@@ -243,6 +246,64 @@ std::string check_structure(const Polyhedron& P, double norm_vol, Measures* m = 
   return "";
 }
 
+// The corners' barycentric coordinates in V against their points and labels (issue 15: where
+// the guardrail moved a corner, its coordinates once described another point, 0.25 of the
+// diameter away, and P1 remap between unstructured meshes lost linear reproduction):
+//  - every coordinate is finite and non-negative, and they add up to 1 (to rounding);
+//  - sum_k bary_k V_k is the corner's point, to 1e-12 of the diameter of U and V (the points and
+//    the coordinates are each rounded once, from the same kernel data);
+//  - the coordinate of each plane of V the corner is labelled with is exactly 0 (it is a P1 basis
+//    function that vanishes on that face), and a coordinate that is exactly 0 without such a
+//    label belongs to a point within rounding of that plane (distance <= 1e-12 of the diameter).
+std::string check_corners(const Polyhedron& P, const Tet& U, const Tet& V) {
+  double diam = 0.0;
+  for (int a = 0; a < 8; ++a)
+    for (int b = 0; b < a; ++b) {
+      const Vec3 d = (a < 4 ? U[a] : V[a - 4]) - (b < 4 ? U[b] : V[b - 4]);
+      diam = std::max(diam, std::sqrt(dot(d, d)));
+    }
+  // Plus the rounding of the point itself to a double (and of the sum below), which far from the
+  // origin is more than 1e-12 of the diameter: 8 eps |coordinate|. The sum is formed relative
+  // to V[0], so that it adds no rounding of its own at V's distance from the origin.
+  double far = 0.0;
+  for (int k = 0; k < 4; ++k) far = std::max({far, std::abs(V[k].x), std::abs(V[k].y), std::abs(V[k].z)});
+  const double tol = 1e-12 * diam + 8 * kEps * far;
+  for (int c = 0; c < P.num_corners(); ++c) {
+    const Corner& k = P.corner(c);
+    const std::string who = "corner " + std::to_string(c) + " (labels " + std::to_string(k.labels[0]) + "," +
+                            std::to_string(k.labels[1]) + "," + std::to_string(k.labels[2]) + ")";
+    double sum = 0.0;
+    for (const double b : k.bary) {
+      if (!std::isfinite(b) || b < 0.0) return who + ": barycentric coordinate " + fmt(b);
+      sum += b;
+    }
+    if (!(std::abs(sum - 1.0) <= 8 * kEps)) return who + ": barycentric coordinates add up to " + fmt(sum);
+    const Vec3 q = k.bary[0] * V[0] + k.bary[1] * V[1] + k.bary[2] * V[2] + k.bary[3] * V[3];
+    const Vec3 d = (k.bary[1] * (V[1] - V[0]) + k.bary[2] * (V[2] - V[0]) + k.bary[3] * (V[3] - V[0])) -
+                   (k.point - V[0]);
+    const double off = std::sqrt(dot(d, d));
+    if (!(off <= tol))
+      return who + ": barycentric coordinates give " + fmt(q) + ", the point is " + fmt(k.point) + " (" +
+             fmt(off / diam) + " of the diameter)";
+    for (int p = 0; p < 4; ++p) {
+      const bool labelled = k.labels[0] == 4 + p || k.labels[1] == 4 + p || k.labels[2] == 4 + p;
+      if (labelled && k.bary[static_cast<std::size_t>(p)] != 0.0)
+        return who + ": on face " + std::to_string(p) + " of V, coordinate " + fmt(k.bary[static_cast<std::size_t>(p)]);
+      if (!labelled && k.bary[static_cast<std::size_t>(p)] == 0.0) {
+        // Distance of the point from the plane of V's face p.
+        const Vec3 a = V[(p + 1) % 4], b = V[(p + 2) % 4], e = V[(p + 3) % 4];
+        const Vec3 n = cross(b - a, e - a);
+        const double len = std::sqrt(dot(n, n));
+        const double dist = len > 0.0 ? std::abs(dot(k.point - a, n)) / len : 0.0;
+        if (!(dist <= tol))
+          return who + ": coordinate " + std::to_string(p) + " is 0 without the label, " + fmt(dist / diam) +
+                 " of the diameter off that face";
+      }
+    }
+  }
+  return "";
+}
+
 // ---------------------------------------------------------------------------------------------
 // Exact translation and splitting helpers.
 
@@ -345,6 +406,7 @@ void run_family(const char* name) {
       ++polyhedra;
       Measures m;
       std::string what = check_structure(P, norm, &m);
+      if (what.empty()) what = check_corners(P, A, B);
       worst.orient_dev = std::max(worst.orient_dev, m.orient_dev);
       worst.tets_dev = std::max(worst.tets_dev, m.tets_dev);
       worst.centroid_out = std::max(worst.centroid_out, m.centroid_out);

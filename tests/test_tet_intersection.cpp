@@ -322,6 +322,36 @@ TEST(Kernel, CornersAgreeWithTheirLabelsAndBarycentricCoordinates) {
   EXPECT_LT(worst, 1e-12);
 }
 
+// Issue 15: two cells of unstructured Gmsh meshes of the unit cube, an edge of U (vertices 0 and
+// 2) lying in V's face 3 (the boundary z = 0). U is the reference; the guardrail moves the
+// corner labelled (1, 3, 7) onto U's vertex 0, and its coordinates in V once still described
+// the point before the move, on the line of that edge, 0.25 of the diameter away (bary
+// [0, 0.854, 0.146, 0] for a point whose coordinates are [0.682, 0.173, 0.144, 0]). P1 remap
+// between such meshes then lost linear reproduction (relative L2 error 3.4e-4 for a constant).
+TEST(Kernel, CornerMovedByTheGuardrailKeepsItsBarycentricCoordinates) {
+  const Tet U{{{0.42532298203863161, 0.24722820079457311, 0},
+               {0.4981371105083951, 0.22036161171074981, 0.21553703528618551},
+               {0.57088716367310421, 0.24740122484300839, 0},
+               {0.49790621367075139, 0.35650732405299868, 0.15035278262155341}}};
+  const Tet V{{{0.44983072873737268, 0.25970525778860992, 0},
+               {0.34998986421537598, 0.25980176923735121, 0},
+               {0.40002070556207592, 0.17319082015251069, 0},
+               {0.32139119515327141, 0.23295684321332169, 0.095949979093413143}}};
+  for (const bool swapped : {false, true}) {
+    const Tet& A = swapped ? V : U;
+    const Tet& B = swapped ? U : V;
+    const Polyhedron P = intersect(A, B);
+    ASSERT_FALSE(P.empty());
+    for (const Corner& c : P.corners()) {
+      const Vec3 q = c.bary[0] * B[0] + c.bary[1] * B[1] + c.bary[2] * B[2] + c.bary[3] * B[3];
+      const Vec3 d = q - c.point;
+      EXPECT_LT(std::sqrt(dot(d, d)), 1e-13) << "corner with labels " << int(c.labels[0]) << ","
+                                              << int(c.labels[1]) << "," << int(c.labels[2])
+                                              << (swapped ? " of (V, U)" : " of (U, V)");
+    }
+  }
+}
+
 TEST(Kernel, VolumeMomentsAndTetrahedralizationAgree) {
   std::mt19937_64 rng(5);
   for (int n = 0; n < 3000; ++n) {
