@@ -101,7 +101,7 @@ wait_quiet() {
   echo "date:     $(date -u '+%Y-%m-%d %H:%M UTC')"
   echo "machine:  $(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc) cores, $(free -g | awk '/^Mem:/ { print $2 }') GB RAM"
   echo "compiler: $(c++ --version | head -1)"
-  measured=(src/tet_intersection.cpp src/polyhedron.cpp src/baselines.cpp src/exact.cpp
+  measured=(src/kernel src/baselines.cpp src/exact.cpp
             include/tetia/geometry.hpp include/tetia/polyhedron.hpp include/tetia/tet_intersection.hpp
             include/tetia/kernel_trace.hpp include/tetia/baselines.hpp include/tetia/exact.hpp
             bench/bench_pairs.cpp bench/bench_cgal.cpp bench/random_pairs.hpp)

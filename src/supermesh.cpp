@@ -113,9 +113,9 @@
 #include <boost/geometry/index/rtree.hpp>
 
 #include "dimension.hpp"
+#include "kernel/one_to_many.hpp"
 #include "mixed_mass.hpp"
 #include "morton.hpp"
-#include "one_to_many.hpp"
 #include "tetia/tet_intersection.hpp"
 #include "tetia/tri_intersection.hpp"
 
@@ -333,7 +333,7 @@ struct alignas(64) Chunk {  // aligned: threads fill neighbouring chunks
 template <class Mesh>
 struct TargetCell {
   using Dm = detail::Dim<Mesh>;
-  // 3D: the conditioning, computed once (see src/one_to_many.hpp).
+  // 3D: the conditioning, computed once (see src/kernel/one_to_many.hpp).
   std::conditional_t<Dm::d == 3, detail::Conditioning, std::monostate> conditioning;
   double measure;
   std::array<std::int32_t, Dm::nv> neighbors;  // positions of the neighbours across each facet, -1 none

@@ -20,7 +20,7 @@
 //    once in each direction), outward orientation (fan volumes from an arbitrary point add up
 //    to +volume), tetrahedra() volumes add up to volume(), centroid inside the corners'
 //    bounding box, intersection_volume / intersection_moments and intersect() without
-//    statistics, and the supermesh's one-to-many path (src/one_to_many.hpp), give the same bits
+//    statistics, and the supermesh's one-to-many path (src/kernel/one_to_many.hpp), give the same bits
 //    as intersect() with them, volume never negative or NaN, stats.inconsistencies == 0.
 //
 // "Relative" means relative to min(|U|, |V|) (max for slivers and tiny-in-big), as in
@@ -36,7 +36,7 @@
 #include <map>
 #include <string>
 
-#include "../src/one_to_many.hpp"  // the supermesh's one-to-many path (internal)
+#include "../src/kernel/one_to_many.hpp"  // the supermesh's one-to-many path (internal)
 #include "support/generators.hpp"
 #include "tetia/exact.hpp"
 #include "tetia/tet_intersection.hpp"

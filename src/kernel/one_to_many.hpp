@@ -1,4 +1,4 @@
-// src/one_to_many.hpp -- the moments of the intersection of one tetrahedron with many
+// src/kernel/one_to_many.hpp -- the moments of the intersection of one tetrahedron with many
 // (internal to the library; the supermesh uses it for each source cell).
 //
 // Contract: OneToMany(S).moments(T, conditioning(T)) is intersection_moments(S, T), bit for bit.
@@ -15,7 +15,7 @@
 
 namespace tetia::detail {
 
-/// What the kernel uses to choose the reference tetrahedron (src/tet_intersection.cpp,
+/// What the kernel uses to choose the reference tetrahedron (src/kernel/frame.hpp,
 /// make_frame): the shape quality |det| / (sum of squared edge lengths)^(3/2), and det6, six
 /// times the signed volume, with its inverse (computed alongside the quality, off the path from
 /// the choice of the reference to its map).

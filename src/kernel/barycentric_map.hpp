@@ -1,9 +1,9 @@
-// src/barycentric_map.hpp -- the change of coordinates of Section 2 (internal to the library).
+// src/kernel/barycentric_map.hpp -- the change of coordinates of Section 2 (internal to the library).
 //
 // BarycentricMap(r, 1 / det6) maps points to barycentric coordinates in tetrahedron r, with the
-// exact snapping described below. Used by the kernel (src/tet_intersection.cpp) for the
+// exact snapping described below. Used by the kernel (src/kernel/frame.hpp) for the
 // reference tetrahedron, and kept by callers that intersect one tetrahedron with many
-// (src/one_to_many.hpp), so that a tetrahedron's map is built once. Inline, allocation-free.
+// (src/kernel/one_to_many.hpp), so that a tetrahedron's map is built once. Inline, allocation-free.
 #pragma once
 
 #include <bit>

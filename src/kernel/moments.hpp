@@ -1,0 +1,82 @@
+// src/kernel/moments.hpp -- the volume and first moments of X ∩ Y: in the reference frame, by
+// fans over the facets (fan_moments, reference_moments), and back in the caller's coordinates
+// by the inverse change of coordinates, eq. (3) (original_moments).
+// Part of the kernel's one translation unit: included by src/kernel/tet_intersection.cpp only
+// (what it defines in the anonymous namespace is that file's own).
+#pragma once
+
+#include <cmath>
+
+#include "frame.hpp"
+#include "kernel_result.hpp"
+#include "tetia/geometry.hpp"
+
+namespace tetia::detail {
+
+namespace {
+
+// --- volume and moments in the reference frame --------------------------------------------
+
+// Volume and first moments in the reference frame, where the corners' barycentric coordinates
+// are the data the kernel decided. Each facet is fanned into triangles and joined to the mean
+// of the corners, a point inside the polytope: every such pyramid has non-negative volume for
+// a convex polytope, so its absolute value is taken and the facets' walking directions do not
+// matter. Returns six times the signed volume as the facets are stored (for orientation).
+template <bool kMoments>
+double fan_moments(KernelResult& r, double& vol6, double (&m)[3]) {
+  vol6 = 0.0;
+  m[0] = m[1] = m[2] = 0.0;
+  if (r.num_facets == 0) return 0.0;
+  double o[3] = {0.0, 0.0, 0.0};
+  for (int c = 0; c < r.num_corners; ++c)
+    for (int k = 0; k < 3; ++k) o[k] += r.corners[c].bary[k + 1];
+  const double inv = 1.0 / r.num_corners;  // as in build_facets: the same rounding
+  for (double& x : o) x *= inv;
+  double signed6 = 0.0;
+  for (int f = 0; f < r.num_facets; ++f) {
+    const int b = r.facet_begin[f], e = r.facet_begin[f + 1];
+    const double* p0 = r.corners[r.facet_index[b]].bary;
+    const double ax = p0[1] - o[0], ay = p0[2] - o[1], az = p0[3] - o[2];
+    double fv = 0.0, fm[3] = {0.0, 0.0, 0.0};
+    for (int k = b + 1; k + 1 < e; ++k) {
+      const double* p1 = r.corners[r.facet_index[k]].bary;
+      const double* p2 = r.corners[r.facet_index[k + 1]].bary;
+      const double bx = p1[1] - o[0], by = p1[2] - o[1], bz = p1[3] - o[2];
+      const double cx = p2[1] - o[0], cy = p2[2] - o[1], cz = p2[3] - o[2];
+      const double d = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+      fv += d;
+      if constexpr (kMoments)
+        for (int c = 0; c < 3; ++c) fm[c] += d * (o[c] + p0[c + 1] + p1[c + 1] + p2[c + 1]);
+    }
+    signed6 += fv;
+    r.facet_volume6[f] = fv;
+    const double s = fv < 0.0 ? -1.0 : 1.0;
+    vol6 += s * fv;
+    if constexpr (kMoments)
+      for (int c = 0; c < 3; ++c) m[c] += s * fm[c];
+  }
+  return signed6;
+}
+
+template <bool kMoments>
+void reference_moments(KernelResult& r) {
+  double vol6, m[3];
+  fan_moments<kMoments>(r, vol6, m);
+  r.ref_volume = vol6 / 6.0;
+  for (int c = 0; c < 3; ++c) r.ref_first[c] = m[c] / 24.0;
+}
+
+Moments original_moments(const Frame& fr, const KernelResult& res) {
+  Moments m;
+  const double scale = std::abs(fr.det6);
+  m.volume = res.ref_volume * scale;
+  const Tet& r = *fr.ref;
+  const Vec3 a1 = r[1] - r[0], a2 = r[2] - r[0], a3 = r[3] - r[0];
+  const Vec3 lin = res.ref_first[0] * a1 + res.ref_first[1] * a2 + res.ref_first[2] * a3;
+  m.first = m.volume * r[0] + scale * lin;
+  return m;
+}
+
+}  // namespace
+
+}  // namespace tetia::detail

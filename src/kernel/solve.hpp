@@ -1,0 +1,153 @@
+// src/kernel/solve.hpp -- one pair from start to end: the quick exits (disjoint bounding boxes,
+// lines 2-6's empty cases), the frame (frame.hpp), the kernel (Kernel::run, algorithm2.hpp),
+// the facets (facets.hpp), and the one repair: the other tetrahedron as the reference.
+// Part of the kernel's one translation unit: included by src/kernel/tet_intersection.cpp only
+// (what it defines in the anonymous namespace is that file's own).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "algorithm2.hpp"
+#include "barycentric_map.hpp"  // TETIA_KERNEL_SSE2
+#include "facets.hpp"
+#include "frame.hpp"
+#include "kernel.hpp"
+#include "kernel_result.hpp"
+#include "tetia/tet_intersection.hpp"
+
+namespace tetia::detail {
+
+namespace {
+
+// Runs the kernel on a prepared frame. Returns false if the labels do not close up into a
+// simple polytope (see Kernel::run and build_facets); the result is then empty.
+// kFull: the result becomes a Polyhedron (weights, and the coordinate scale orient_facets uses).
+template <bool kMoments, bool kFull>
+bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* stats) {
+  // Kernel::run's first test (lines 2-6) ahead of the kernel: some plane of Y has no vertex of
+  // X strictly on its positive side (which covers X on its negative side: C >= 0 implies
+  // C > 0 fails only for zeros). The result is then empty, as run and build_facets leave it.
+  unsigned positive = 0;
+#if TETIA_KERNEL_SSE2
+  {
+    const __m128d z = _mm_setzero_pd();
+    __m128d lo = _mm_cmpgt_pd(_mm_loadu_pd(C[0]), z), hi = _mm_cmpgt_pd(_mm_loadu_pd(C[0] + 2), z);
+    for (int i = 1; i < 4; ++i) {
+      lo = _mm_or_pd(lo, _mm_cmpgt_pd(_mm_loadu_pd(C[i]), z));
+      hi = _mm_or_pd(hi, _mm_cmpgt_pd(_mm_loadu_pd(C[i] + 2), z));
+    }
+    positive = unsigned(_mm_movemask_pd(lo)) | unsigned(_mm_movemask_pd(hi)) << 2;
+  }
+#else
+  for (int i = 0; i < 4; ++i)
+    for (int p = 0; p < 4; ++p) positive |= unsigned(C[i][p] > 0.0) << p;
+#endif
+  if (positive != 0xFu) {
+    res.set_empty();
+    res.contradiction = false;
+    return true;
+  }
+  if (stats) {
+    Kernel<kFull, true> k(C, stats);
+    k.run(res);
+    res.contradiction = !k.consistent();  // looked for only with statistics
+  } else {
+    Kernel<kFull, false> k(C, nullptr);
+    k.run(res);
+    res.contradiction = !k.consistent();
+  }
+  if constexpr (kFull) {  // the largest of 1 and the |coordinates| (finite here: make_frame)
+#if TETIA_KERNEL_SSE2
+    const __m128d sign = _mm_set1_pd(-0.0);
+    __m128d m = _mm_set1_pd(1.0);
+    for (int i = 0; i < 4; ++i)
+      m = _mm_max_pd(m, _mm_max_pd(_mm_andnot_pd(sign, _mm_loadu_pd(C[i])), _mm_andnot_pd(sign, _mm_loadu_pd(C[i] + 2))));
+    res.coordinate_scale = _mm_cvtsd_f64(_mm_max_sd(m, _mm_unpackhi_pd(m, m)));
+#else
+    double scale = 1.0;
+    for (int i = 0; i < 4; ++i)
+      for (int p = 0; p < 4; ++p) scale = std::max(scale, std::abs(C[i][p]));
+    res.coordinate_scale = scale;
+#endif
+  }
+  // Only a Polyhedron reads the facets and their fan volumes.
+  const bool ok = build_facets<kMoments ? kFacetsMoments : kFacetsVolume, true, kFull>(res);
+  if (!ok) {
+    res.set_empty();
+    return false;
+  }
+  return true;
+}
+
+// The kernel with its one repair: rounding in a degenerate configuration (an edge of one
+// tetrahedron lying in a face of the other, say) can leave sign decisions that Theorem 6's
+// relations accept but that no polytope realizes; the labels then do not close up. The other
+// tetrahedron is then taken as the reference, which rounds differently and in the tests has
+// always given a closed polytope. Only if that fails too is the result empty (and counted).
+// make_frame(fr, other_reference) prepares the frame (see make_frame).
+template <bool kMoments, bool kFull, class MakeFrame>
+bool solve_with(const MakeFrame& make_frame, Frame& fr, KernelResult& res, IntersectionStats* stats) {
+  if (!make_frame(fr, false)) {
+    res.set_empty();
+    return false;
+  }
+  if (stats && fr.swapped) ++stats->reference_swaps;
+  bool ok = run_kernel<kMoments, kFull>(fr.C, res, stats);
+  if (!ok) {
+    if (stats) ++stats->retries;
+    ok = make_frame(fr, true) && run_kernel<kMoments, kFull>(fr.C, res, stats);
+  }
+  if (stats && (!ok || res.contradiction)) ++stats->inconsistencies;
+  return ok;
+}
+
+// Whether the bounding boxes of U and V are disjoint: some axis has max U < min V or
+// max V < min U, compared exactly on the input. A plane x = c (or y, z) then separates the two
+// strictly, and the intersection is empty: no map, no kernel. Boxes that touch are not disjoint;
+// the kernel decides those. NaN compares false; non-finite input is empty either way (if no
+// axis separates it here, make_frame rejects it).
+bool boxes_disjoint(const Tet& U, const Tet& V) {
+#if TETIA_KERNEL_SSE2
+  __m128d u_lo = _mm_loadu_pd(&U[0].x), u_hi = u_lo, v_lo = _mm_loadu_pd(&V[0].x), v_hi = v_lo;  // (x, y)
+  __m128d uz_lo = _mm_load_sd(&U[0].z), uz_hi = uz_lo, vz_lo = _mm_load_sd(&V[0].z), vz_hi = vz_lo;
+  for (int k = 1; k < 4; ++k) {
+    const __m128d u = _mm_loadu_pd(&U[k].x), v = _mm_loadu_pd(&V[k].x);
+    const __m128d uz = _mm_load_sd(&U[k].z), vz = _mm_load_sd(&V[k].z);
+    u_lo = _mm_min_pd(u_lo, u), u_hi = _mm_max_pd(u_hi, u), v_lo = _mm_min_pd(v_lo, v), v_hi = _mm_max_pd(v_hi, v);
+    uz_lo = _mm_min_sd(uz_lo, uz), uz_hi = _mm_max_sd(uz_hi, uz);
+    vz_lo = _mm_min_sd(vz_lo, vz), vz_hi = _mm_max_sd(vz_hi, vz);
+  }
+  const __m128d apart = _mm_or_pd(_mm_cmplt_pd(u_hi, v_lo), _mm_cmplt_pd(v_hi, u_lo));
+  const __m128d apart_z = _mm_or_pd(_mm_cmplt_sd(uz_hi, vz_lo), _mm_cmplt_sd(vz_hi, uz_lo));
+  return (_mm_movemask_pd(apart) | (_mm_movemask_pd(apart_z) & 1)) != 0;
+#else
+  bool apart = false;
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto coord = [axis](const Vec3& p) { return axis == 0 ? p.x : axis == 1 ? p.y : p.z; };
+    double u_lo = coord(U[0]), u_hi = u_lo, v_lo = coord(V[0]), v_hi = v_lo;
+    for (int k = 1; k < 4; ++k) {
+      u_lo = std::min(u_lo, coord(U[k])), u_hi = std::max(u_hi, coord(U[k]));
+      v_lo = std::min(v_lo, coord(V[k])), v_hi = std::max(v_hi, coord(V[k]));
+    }
+    apart |= u_hi < v_lo || v_hi < u_lo;
+  }
+  return apart;
+#endif
+}
+
+// The pairwise entry points' kernel call: a quick exit for disjoint bounding boxes, then
+// solve_with. Returns false when the intersection is empty for lack of a frame (see solve_with).
+template <bool kMoments, bool kFull>
+bool solve(const Tet& U, const Tet& V, Frame& fr, KernelResult& res, IntersectionStats* stats) {
+  if (boxes_disjoint(U, V)) {
+    res.set_empty();
+    return false;
+  }
+  return solve_with<kMoments, kFull>([&](Frame& f, bool other) { return make_frame(U, V, f, other); }, fr, res,
+                                     stats);
+}
+
+}  // namespace
+
+}  // namespace tetia::detail
