@@ -24,6 +24,8 @@
 // the boundary, as the CLI does).
 #include "tetia/exact.hpp"
 
+#include "kernel/exact_fallback.hpp"
+
 #include <array>
 #include <bit>
 #include <cmath>
@@ -423,8 +425,9 @@ double intersection_volume_double(const Tet& U, const Tet& V) {
 // =============================================================================================
 // 2D: the intersection area of two triangles.
 //
-// Method (again unrelated to the kernel's: no barycentric coordinates, no labels, no pairing of
-// signs): Sutherland-Hodgman clipping of A by the three closed half-planes of B, every number a
+// Method (again unrelated to the kernel's: no barycentric coordinates, no pairing of signs; the
+// lines each corner lies on are tracked only for the kernel's exact last resort,
+// exact_polygon below): Sutherland-Hodgman clipping of A by the three closed half-planes of B, every number a
 // rational. Clipping a convex polygon by a half-plane in exact arithmetic yields exactly the
 // intersection (a vertex on the line is kept once and creates no crossing point; a crossing
 // point P + t (Q - P) with t = f(P) / (f(P) - f(Q)) lies exactly on the line), so after three
@@ -453,13 +456,59 @@ void check_finite(const Triangle& t) {
   }
 }
 
-// Twice the signed area of a polygon (shoelace, relative to its first corner).
-mpq_class shoelace(const std::vector<QPoint>& poly) {
-  mpq_class twice = 0;
-  for (std::size_t i = 1; i + 1 < poly.size(); ++i) {
-    twice += orient(poly[0], poly[i], poly[i + 1]);
+// A ∩ B as a polygon whose corners carry the labels of the lines they lie on: Sutherland-Hodgman
+// as described above, each corner with `out`, the label of the side that leaves it (0-2 the
+// edges of A, edge k opposite vertex k; 3-5 the lines of B), so that a corner lies on the lines
+// `out` of its predecessor and its own `out`. Coordinates are translated by `origin`. The
+// corners run in A's orientation. Returns false when A or B is flat.
+struct LabelledCorner {
+  QPoint p;
+  int out;
+};
+
+bool clip_labelled(const Triangle& A, const Triangle& B, const QPoint& origin, std::vector<LabelledCorner>& poly,
+                   std::array<QPoint, 3>& b) {
+  check_finite(A);
+  check_finite(B);
+  std::vector<LabelledCorner> next;
+  poly.resize(3);
+  next.reserve(8);
+  for (int i = 0; i < 3; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    // The side from vertex i to vertex i + 1 is the edge opposite vertex i + 2.
+    poly[k] = {{mpq_class(A[k].x) - origin.x, mpq_class(A[k].y) - origin.y}, (i + 2) % 3};
+    b[k] = {mpq_class(B[k].x) - origin.x, mpq_class(B[k].y) - origin.y};
   }
-  return twice;
+  const int sign_b = sgn(orient(b[0], b[1], b[2]));
+  if (sign_b == 0 || sgn(orient(poly[0].p, poly[1].p, poly[2].p)) == 0) return false;
+  std::vector<mpq_class> f;
+  for (int k = 0; k < 3 && poly.size() >= 3; ++k) {
+    // Edge k of B (opposite vertex k); the kept side is the one holding B[k], where
+    // sign_b * orient(b1, b2, .) > 0 (orient(b1, b2, b0) = orient(b0, b1, b2): a rotation).
+    const QPoint& b1 = b[static_cast<std::size_t>((k + 1) % 3)];
+    const QPoint& b2 = b[static_cast<std::size_t>((k + 2) % 3)];
+    const std::size_t n = poly.size();
+    f.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      f[i] = orient(b1, b2, poly[i].p);
+      if (sign_b < 0) f[i] = -f[i];
+    }
+    next.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t j = i + 1 == n ? 0 : i + 1;
+      const int si = sgn(f[i]), sj = sgn(f[j]);
+      // A kept corner leaves along its side, except a corner on the clipping line whose side
+      // goes outside: the boundary then goes on along the clipping line.
+      if (si >= 0) next.push_back({poly[i].p, si == 0 && sj < 0 ? 3 + k : poly[i].out});
+      if (si * sj < 0) {  // strictly on opposite sides: one exact crossing point
+        const mpq_class t = f[i] / (f[i] - f[j]);
+        next.push_back({{poly[i].p.x + t * (poly[j].p.x - poly[i].p.x), poly[i].p.y + t * (poly[j].p.y - poly[i].p.y)},
+                        si > 0 ? 3 + k : poly[i].out});
+      }
+    }
+    poly.swap(next);
+  }
+  return true;
 }
 
 }  // namespace
@@ -476,52 +525,14 @@ mpq_class area(const Triangle& t) {
 // are disjoint or either is flat. Throws std::domain_error on a non-finite coordinate.
 // Reentrant: no shared state.
 mpq_class intersection_area(const Triangle& A, const Triangle& B) {
-  check_finite(A);
-  check_finite(B);
   // Translating both by A's vertex 0 changes no area and keeps the numbers smaller.
-  const mpq_class ox = A[0].x, oy = A[0].y;
-  std::vector<QPoint> poly(3), next;
-  poly.reserve(8);
-  next.reserve(8);
+  check_finite(A);
+  std::vector<LabelledCorner> poly;
   std::array<QPoint, 3> b;
-  for (int i = 0; i < 3; ++i) {
-    poly[static_cast<std::size_t>(i)] = {mpq_class(A[static_cast<std::size_t>(i)].x) - ox,
-                                         mpq_class(A[static_cast<std::size_t>(i)].y) - oy};
-    b[static_cast<std::size_t>(i)] = {mpq_class(B[static_cast<std::size_t>(i)].x) - ox,
-                                      mpq_class(B[static_cast<std::size_t>(i)].y) - oy};
-  }
-  const int sign_b = sgn(orient(b[0], b[1], b[2]));
-  if (sign_b == 0 || sgn(orient(poly[0], poly[1], poly[2])) == 0) return 0;
-
-  // A convex polygon gains at most one corner per clip (at most two strict crossings, and then
-  // at least one corner is dropped): at most 6, but nothing here relies on it.
-  std::vector<mpq_class> f;
-  for (int k = 0; k < 3 && poly.size() >= 3; ++k) {
-    // Edge k of B (opposite vertex k); the kept side is the one holding B[k], where
-    // sign_b * orient(b1, b2, .) > 0 (orient(b1, b2, b0) = orient(b0, b1, b2): a rotation).
-    const QPoint& b1 = b[static_cast<std::size_t>((k + 1) % 3)];
-    const QPoint& b2 = b[static_cast<std::size_t>((k + 2) % 3)];
-    const std::size_t n = poly.size();
-    f.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      f[i] = orient(b1, b2, poly[i]);
-      if (sign_b < 0) f[i] = -f[i];
-    }
-    next.clear();
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t j = i + 1 == n ? 0 : i + 1;
-      const int si = sgn(f[i]), sj = sgn(f[j]);
-      if (si >= 0) next.push_back(poly[i]);
-      if (si * sj < 0) {  // strictly on opposite sides: one exact crossing point
-        const mpq_class t = f[i] / (f[i] - f[j]);
-        next.push_back({poly[i].x + t * (poly[j].x - poly[i].x),
-                        poly[i].y + t * (poly[j].y - poly[i].y)});
-      }
-    }
-    poly.swap(next);
-  }
-  if (poly.size() < 3) return 0;
-  return abs(shoelace(poly)) / 2;
+  if (!clip_labelled(A, B, {A[0].x, A[0].y}, poly, b) || poly.size() < 3) return 0;
+  mpq_class twice = 0;
+  for (std::size_t i = 1; i + 1 < poly.size(); ++i) twice += orient(poly[0].p, poly[i].p, poly[i + 1].p);
+  return abs(twice) / 2;
 }
 
 // Contract: intersection_area(A, B) correctly rounded to the nearest double (ties to even).
@@ -530,3 +541,52 @@ double intersection_area_double(const Triangle& A, const Triangle& B) {
 }
 
 }  // namespace tetia::exact
+
+namespace tetia::detail {
+
+// The exact polygon of clip_labelled, rounded: the kernel's last resort in 2D.
+void exact_polygon(const Triangle& A, const Triangle& B, ExactPolygon& out) {
+  using exact::LabelledCorner;
+  using exact::QPoint;
+  out.num_corners = 0;
+  out.moments = {};
+  const QPoint origin{A[0].x, A[0].y};
+  std::vector<LabelledCorner> poly;
+  std::array<QPoint, 3> b;
+  if (!exact::clip_labelled(A, B, origin, poly, b) || poly.size() < 3) return;
+  const std::size_t n = poly.size();
+  // Twice the signed area and twice the first moments, by a fan from corner 0; the signs follow
+  // A's orientation, which the corners run in.
+  mpq_class twice = 0, fx = 0, fy = 0;
+  for (std::size_t i = 1; i + 1 < n; ++i) {
+    const mpq_class t = exact::orient(poly[0].p, poly[i].p, poly[i + 1].p);
+    twice += t;
+    fx += t * (poly[0].p.x + poly[i].p.x + poly[i + 1].p.x);
+    fy += t * (poly[0].p.y + poly[i].p.y + poly[i + 1].p.y);
+  }
+  const int orientation = sgn(twice);
+  if (orientation == 0) return;  // touching or flat: no interior
+  const mpq_class area = abs(twice) / 2;
+  // Integral of x over a triangle: area times the mean of its vertices; put back the origin.
+  out.moments.area = exact::round_to_double(area);
+  out.moments.first = {exact::round_to_double(orientation * fx / 6 + area * origin.x),
+                       exact::round_to_double(orientation * fy / 6 + area * origin.y)};
+  const mpq_class det_b = exact::orient(b[0], b[1], b[2]);
+  if (n > static_cast<std::size_t>(Polygon::max_corners)) throw std::logic_error("exact_polygon: too many corners");
+  for (std::size_t k = 0; k < n; ++k) {
+    // Counter-clockwise: reversed when A runs clockwise. Corner c lies on the side arriving at
+    // it (its predecessor's `out`) and on its own `out`.
+    const std::size_t c = orientation > 0 ? k : n - 1 - k;
+    const LabelledCorner& q = poly[c];
+    const int in = poly[(c + n - 1) % n].out;
+    out.point[k] = {exact::round_to_double(q.p.x + origin.x), exact::round_to_double(q.p.y + origin.y)};
+    out.labels[k][0] = static_cast<std::uint8_t>(std::min(in, q.out));
+    out.labels[k][1] = static_cast<std::uint8_t>(std::max(in, q.out));
+    for (int v = 0; v < 3; ++v)
+      out.bary[k][v] = exact::round_to_double(
+          exact::orient(b[static_cast<std::size_t>((v + 1) % 3)], b[static_cast<std::size_t>((v + 2) % 3)], q.p) / det_b);
+  }
+  out.num_corners = static_cast<int>(n);
+}
+
+}  // namespace tetia::detail

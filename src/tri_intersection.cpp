@@ -24,6 +24,10 @@
 #include <cmath>
 #include <cstdint>
 
+#include "kernel/exact_fallback.hpp"
+#include "kernel/exact_sign.hpp"
+#include "kernel/rescale.hpp"  // scaled_exactly
+
 namespace tetia {
 
 TriIntersectionStats& TriIntersectionStats::operator+=(const TriIntersectionStats& o) {
@@ -35,6 +39,10 @@ TriIntersectionStats& TriIntersectionStats::operator+=(const TriIntersectionStat
   guardrail_clamps += o.guardrail_clamps;
   reference_swaps += o.reference_swaps;
   inconsistencies += o.inconsistencies;
+  retries += o.retries;
+  refined += o.refined;
+  rescaled += o.rescaled;
+  exact_fallbacks += o.exact_fallbacks;
   calls += o.calls;
   return *this;
 }
@@ -89,12 +97,28 @@ struct KernelResult {
 constexpr int kEdgeFrom[3] = {1, 2, 0};
 constexpr int kEdgeTo[3] = {2, 0, 1};
 
+double orient2d_accurate(Vec2 a, Vec2 b, Vec2 c);
+
+// What the kernel needs besides X's coordinates to decide a sign the coordinates cannot: the
+// two triangles (X = sub, Y = ref, in the frame's scaled, canonical order), whether X's
+// coordinates are large (`careful`: some |coordinate| above 2^8, X's vertices far from Y for
+// Y's size), a bound on every coordinate's error, and the sign of Y's determinant.
+struct SignGeometry {
+  const Triangle* sub;
+  const Triangle* ref;
+  bool careful;
+  double c_error;
+  double c_max;
+  bool ref_positive;
+};
+
 class Kernel {
  public:
   // C: X's barycentric coordinates in Y; x_ccw: whether X's vertices 0, 1, 2 run
   // counter-clockwise in the frame of Y (the map preserves orientation iff det A and det B have
   // the same sign).
-  Kernel(const double (&C)[3][3], bool x_ccw, TriIntersectionStats* stats) : C_(C), x_ccw_(x_ccw), stats_(stats) {
+  Kernel(const double (&C)[3][3], bool x_ccw, const SignGeometry& geo, TriIntersectionStats* stats)
+      : C_(C), x_ccw_(x_ccw), geo_(geo), stats_(stats) {
     for (int i = 0; i < 3; ++i) {
       unsigned m = 0;
       for (int p = 0; p < 3; ++p) m |= unsigned(C[i][p] >= 0.0) << p;  // binary sign
@@ -112,11 +136,38 @@ class Kernel {
   // (y_i - y_j), eq. (2) of the 3D paper. The crossing still has x_i's x-sign iff P_x comes
   // later. The numerator of y_x^{ij} is exactly the negative of this one in floating point,
   // so the pairing of line 10 holds for the computed values too.
-  bool crosses_before(int i, int j, int y, int x) const {
-    const double num = C_[j][x] * C_[i][y] - C_[i][x] * C_[j][y];
+  //
+  // The sign of the computed numerator may be wrong where it is within its error bound, by the
+  // coordinates' errors and the products' rounding. Where X's coordinates are moderate (at most
+  // 2^8: the usual case, nothing is tested) that amounts to moving a vertex of X by about eps
+  // times Y's size, a perturbation the result's accuracy does not notice; the signs are then
+  // consistent (decided once, inherited), which is what Theorem 6 needs. Where they are large
+  // (`careful`: X much bigger than Y, so that the same error is eps times X's size), a
+  // numerator within its bound, 4 c_error c_max + 2^-51 (|a| + |b|), takes its sign from the
+  // input instead: with lambda_y, lambda_x affine and both zero at Y's vertex r, the numerator is
+  // lambda_y(x_i) lambda_x(x_j) - lambda_y(x_j) lambda_x(x_i) = K orient2d(u_i, u_j, y_r), the
+  // constant K fixed by x_i = y_x, x_j = y_y: K = -1 / orient2d(y_x, y_y, y_r), where
+  // orient2d(y_x, y_y, y_r) is det2 for an even permutation (x, y, r) of (0, 1, 2) and -det2
+  // for an odd one. orient2d_accurate(u_i, u_j, y_r) gets it right where X is far bigger than
+  // Y, the coordinates huge and their products cancelling (Y 1e-16 of X, say).
+  [[gnu::always_inline]] bool crosses_before(int i, int j, int y, int x) const {
+    const double a = C_[j][x] * C_[i][y], b = C_[i][x] * C_[j][y];
+    double num = a - b;
+    if (geo_.careful) [[unlikely]] {
+      if (!(std::abs(num) > 4.0 * geo_.c_error * geo_.c_max + 0x1p-51 * (std::abs(a) + std::abs(b))))
+        num = numerator_from_input(i, j, y, x);
+    }
     const bool den_positive = bit(sm_[i], y);  // y_i >= 0 > y_j
     const bool sign_x = num == 0.0 || ((num > 0.0) == den_positive);
     return sign_x == bit(sm_[i], x);
+  }
+  // The numerator's sign as K orient2d(u_i, u_j, y_r) (see crosses_before), out of the way.
+  [[gnu::noinline]] double numerator_from_input(int i, int j, int y, int x) const {
+    const int r = 3 - x - y;
+    const bool even = (x + 1) % 3 == y;  // (x, y, r) a cyclic shift of (0, 1, 2)
+    const double o = orient2d_accurate((*geo_.sub)[i], (*geo_.sub)[j], (*geo_.ref)[r]);
+    if (stats_) ++stats_->refined;
+    return (even == geo_.ref_positive) ? -o : o;
   }
 
   // Lines 7-10 for edge e: the lines it crosses are those whose signs differ at its ends
@@ -226,6 +277,7 @@ class Kernel {
 
   const double (&C_)[3][3];
   bool x_ccw_;
+  SignGeometry geo_;
   TriIntersectionStats* stats_;
   u8 sm_[3];
   u8 cm_[3][3] = {};  // sign masks of the crossing of edge e with P_p
@@ -361,13 +413,14 @@ double orient2d_accurate(Vec2 a, Vec2 b, Vec2 c) {
 // wrong orientation nor called flat when it is not (exactly collinear vertices give exactly
 // zero: flat, empty result), and its area, which can scale the result (corner_coordinates),
 // keeps its digits.
-double shape_quality(const Triangle& t, double& det2) {
+// s: the sum of squared edge lengths.
+double shape_quality(const Triangle& t, double& det2, double& s) {
   const Vec2 e1 = t[1] - t[0], e2 = t[2] - t[0], e3 = t[2] - t[1];
   const double l = e1.x * e2.y, r = e1.y * e2.x;
   det2 = l - r;
   if (!(1e-14 * std::abs(det2) > (3.0 + 16.0 * 0x1p-53) * 0x1p-53 * (std::abs(l) + std::abs(r))))
     det2 = orient2d_accurate(t[0], t[1], t[2]);
-  const double s = e1.x * e1.x + e1.y * e1.y + e2.x * e2.x + e2.y * e2.y + e3.x * e3.x + e3.y * e3.y;
+  s = e1.x * e1.x + e1.y * e1.y + e2.x * e2.x + e2.y * e2.y + e3.x * e3.x + e3.y * e3.y;
   return std::abs(det2) / s;
 }
 
@@ -407,17 +460,38 @@ struct BarycentricMap {
       }
   }
 
-  void operator()(Vec2 u, double (&out)[3]) const {
+  // A coordinate whose plain value is within the error bound has no reliable sign. Snapped to
+  // 0, it moves the point by up to eps times its distance from the edge's anchor: harmless
+  // between triangles of similar size (the point moves by eps of them), but for a triangle
+  // much smaller than the reference (1e-14 of it, say) a good part of the small triangle, and
+  // for one much larger (X far bigger than Y) many times Y. With `accurate_near_zero` (sizes
+  // more than 2^10 apart, make_frame) such a coordinate is evaluated again accurately
+  // (orient2d_accurate), and only what is zero to that evaluation's own error, 8 eps^2 times the
+  // permanent, is snapped (a point exactly on the line gives exactly 0 either way).
+  //
+  // perm[k]: the permanent of coordinate k; kErrBound perm[k] |inv| bounds its error (the
+  // common rounding of inv scales all coordinates alike and changes no sign the kernel takes).
+  void operator()(Vec2 u, double (&out)[3], double (&perm)[3], bool accurate_near_zero) const {
     for (int k = 0; k < 3; ++k) {
       const Vec2 w = u - anchor[k];
       const double l = dir[k].x * w.y, rr = dir[k].y * w.x;
-      const double det = l - rr;
-      out[k] = std::abs(det) > kErrBound * (std::abs(l) + std::abs(rr)) ? det * inv : 0.0;
+      double det = l - rr;
+      const double permanent = std::abs(l) + std::abs(rr);
+      perm[k] = permanent;
+      if (!(std::abs(det) > kErrBound * permanent)) [[unlikely]] {
+        det = accurate_near_zero ? orient2d_accurate(anchor[k], to[k], u) : 0.0;
+        if (!(std::abs(det) > 8.0 * 0x1p-106 * permanent)) det = 0.0;
+      }
+      out[k] = det * inv;
     }
     for (int k = 0; k < 3; ++k)
       if (u == vertex[k]) {
         for (int q = 0; q < 3; ++q) out[q] = q == k ? 1.0 : 0.0;
       }
+  }
+  void operator()(Vec2 u, double (&out)[3]) const {
+    double perm[3];
+    (*this)(u, out, perm, false);
   }
 };
 
@@ -435,7 +509,13 @@ struct Frame {
   bool x_ccw;           // X is counter-clockwise in the frame of Y
   double det2;          // det[r1 - r0, r2 - r0]
   double det2_sub;      // det[s1 - s0, s2 - s0]
+  double inv_det2;      // 1 / det2, the scale of the reference's map
   double C[3][3];
+  double C_perm[3][3];  // the permanents of C's entries (BarycentricMap)
+  bool careful;         // some |entry| of C above 2^8 (X's vertices far from Y for Y's size)
+  double C_error;       // with `careful`: a bound on every entry's error
+  double C_max;         // with `careful`: the largest |entry|
+  double size_squared_max;  // the larger sum of squared edge lengths (make_frame)
 };
 
 // Coordinates of the corners (only of those that exist), then the area and first moments by a
@@ -451,6 +531,8 @@ struct Frame {
 template <bool kMoments>
 void corner_coordinates(const Frame& fr, KernelResult& r, TriIntersectionStats* stats) {
   const auto& C = fr.C;
+  // The frame the area is measured in: X's when X is the smaller triangle.
+  const bool sub_frame = std::abs(fr.det2_sub) < std::abs(fr.det2);
   for (int c = 0; c < r.num_corners; ++c) {
     RawCorner& k = r.corners[c];
     if (k.kind == kVertexOfX) {
@@ -465,21 +547,72 @@ void corner_coordinates(const Frame& fr, KernelResult& r, TriIntersectionStats* 
       // exact zero (a collinear edge; touched_edges_of_b relies on it).
       const int e = k.index / 3, p = k.index % 3, i = kEdgeFrom[e], j = kEdgeTo[e];
       const int q1 = kEdgeFrom[p], q2 = kEdgeTo[p];  // the two other coordinates
-      const double den = C[i][p] - C[j][p];
-      double v1 = (C[i][p] * C[j][q1] - C[j][p] * C[i][q1]) / den;
-      double v2 = (C[i][p] * C[j][q2] - C[j][p] * C[i][q2]) / den;
+      double ci = C[i][p], cj = C[j][p];
+      // Where the crossing lies along the edge, t = ci / (ci - cj), is accurate to 2^-44 when
+      // the map's error bound on ci and cj is that far below their difference. Otherwise (an
+      // edge much shorter than the reference, the usual case of a small X crossing a big Y)
+      // both are recomputed to full relative accuracy: t is then accurate relative to the edge,
+      // and so is the area measured in X's frame. Exact zeros (a vertex on P_p, snapped by the
+      // map) stay zero: the signs were decided on them.
+      bool refine = BarycentricMap::kErrBound * (fr.C_perm[i][p] + fr.C_perm[j][p]) * std::abs(fr.inv_det2) >
+                    0x1p-44 * std::abs(ci - cj);
+      // In Y's frame (the area is measured there when Y is the smaller triangle) the two other
+      // coordinates, v1 and v2 below, carry about eps M^2 / |den| of rounding, M the largest
+      // coordinate involved; their effect on the area is about eps M^2 of Y's (a small |den|
+      // moves the corner along a thin wedge), which matters only where X's vertices are far
+      // from Y (X much bigger; fr.careful, M at most fr.C_max). There the corner is found from
+      // the other side: it is the point of P_p,
+      // lambda_q1 y_q1 + lambda_q2 y_q2, on the line of the edge, where orient2d(u_i, u_j, .)
+      // vanishes; with o_q = orient2d(u_i, u_j, y_q) evaluated accurately,
+      // lambda_q1 = o_q2 / (o_q2 - o_q1) and lambda_q2 = -o_q1 / (o_q2 - o_q1), accurate
+      // relative to Y. Not where an end of the edge has coordinate p exactly 0 (on P_p, or
+      // snapped there by the map): the corner is then that vertex, as the signs decided.
+      bool dual = false;
+      if (fr.careful && !sub_frame && ci != 0.0 && cj != 0.0) [[unlikely]] {
+        const double M = fr.C_max;  // at least the largest coordinate involved
+        dual = M * M > 128.0 * std::abs(ci - cj);
+        refine |= dual;  // t then as accurate as the corner, so that both describe one point
+      }
+      const Triangle& ref = *fr.ref;
+      const Triangle& sub = *fr.sub;
+      if (refine) [[unlikely]] {
+        const Vec2 anchor = ref[kEdgeFrom[p]], to = ref[kEdgeTo[p]];
+        if (ci != 0.0) ci = orient2d_accurate(anchor, to, sub[i]) * fr.inv_det2;
+        if (cj != 0.0) cj = orient2d_accurate(anchor, to, sub[j]) * fr.inv_det2;
+        if (stats) ++stats->refined;
+      }
+      const double den = ci - cj;
+      const double t = ci / den;  // in [0, 1]: ci and -cj have the same sign
+      double v1 = (ci * C[j][q1] - cj * C[i][q1]) / den;
+      double v2 = (ci * C[j][q2] - cj * C[i][q2]) / den;
+      if (dual) [[unlikely]] {
+        const double o1 = orient2d_accurate(sub[i], sub[j], ref[q1]), o2 = orient2d_accurate(sub[i], sub[j], ref[q2]);
+        const double d = o2 - o1;
+        if (d != 0.0 && std::isfinite(d)) {
+          v1 = o2 / d;
+          v2 = -o1 / d;
+        }
+      }
       if (stats) stats->guardrail_clamps += int(!(v1 >= 0.0)) + int(!(v2 >= 0.0));
       v1 = v1 >= 0.0 ? v1 : 0.0;
       v2 = v2 >= 0.0 ? v2 : 0.0;
+      if (!(v1 + v2 > 0.0 && v1 + v2 < INFINITY)) [[unlikely]] {
+        // Both clamped (or not finite): the point at t on the edge, clamped in turn, and the
+        // midpoint of the admissible segment if nothing is left (Table 4's choice); never a
+        // corner with all coordinates zero.
+        v1 = std::max((1.0 - t) * C[i][q1] + t * C[j][q1], 0.0);
+        v2 = std::max((1.0 - t) * C[i][q2] + t * C[j][q2], 0.0);
+        if (!(v1 + v2 > 0.0) || !(v1 + v2 < INFINITY)) v1 = v2 = 0.5;
+      }
       const double sum = v1 + v2;
       k.bary[p] = 0.0;
-      k.bary[q1] = sum > 0.0 ? v1 / sum : v1;
-      k.bary[q2] = sum > 0.0 ? v2 / sum : v2;
-      k.weight_b = C[i][p] / den;  // in [0, 1]: C[i][p] and -C[j][p] have the same sign
+      k.bary[q1] = v1 / sum;
+      k.bary[q2] = v2 / sum;
+      k.weight_b = t;
       if (stats) stats->corner_coordinates += 2;
     }
   }
-  r.sub_frame = std::abs(fr.det2_sub) < std::abs(fr.det2);
+  r.sub_frame = sub_frame;
   // Both determinants are accurate to 1e-14 even for needles (shape_quality).
   r.frame_det = r.sub_frame ? fr.det2_sub : fr.det2;
   // The fan's planar coordinates: (x, y) of Y, or the last two barycentric coordinates in X.
@@ -556,14 +689,22 @@ void canonical_order(const Triangle& t, Triangle& out, u8 (&perm)[3]) {
   }
 }
 
-bool make_frame(const Triangle& A_in, const Triangle& B_in, Frame& fr, bool other_reference = false) {
+// make_frame's outcome. `rescale`: an edge length of A or B is outside [2^-250, 2^250], where
+// the kernel's products of two differences and their error bounds would leave the normal
+// range: solve() scales the input by a power of two (rescale.hpp) and makes the frame again.
+enum class FrameStatus { ok, flat_or_not_finite, rescale };
+
+FrameStatus make_frame(const Triangle& A_in, const Triangle& B_in, Frame& fr, bool other_reference = false) {
   canonical_order(A_in, fr.a_canonical, fr.a_perm);
   canonical_order(B_in, fr.b_canonical, fr.b_perm);
   const Triangle& A = fr.a_canonical;
   const Triangle& B = fr.b_canonical;
-  double detA, detB;
-  const double qA = shape_quality(A, detA), qB = shape_quality(B, detB);
-  if (!(qA > 0.0) || !(qB > 0.0) || !(qA < INFINITY) || !(qB < INFINITY)) return false;
+  double detA, detB, sA, sB;
+  const double qA = shape_quality(A, detA, sA), qB = shape_quality(B, detB, sB);
+  fr.size_squared_max = std::max(sA, sB);
+  const bool accurate_near_zero = !(sA <= 0x1p20 * sB && sB <= 0x1p20 * sA);
+  if (!(sA >= 0x1p-500 && sB >= 0x1p-500 && sA <= 0x1p500 && sB <= 0x1p500)) return FrameStatus::rescale;
+  if (!(qA > 0.0) || !(qB > 0.0) || !(qA < INFINITY) || !(qB < INFINITY)) return FrameStatus::flat_or_not_finite;
   bool use_a = qA > qB;
   if (qA == qB) {
     const double* pa = &A[0].x;
@@ -580,17 +721,34 @@ bool make_frame(const Triangle& A_in, const Triangle& B_in, Frame& fr, bool othe
   fr.det2_sub = use_a ? detB : detA;
   fr.x_ccw = (detA > 0.0) == (detB > 0.0);
   const BarycentricMap bary(*fr.ref, fr.det2);
+  fr.inv_det2 = bary.inv;
   double probe = 0.0;  // stays 0 unless a coordinate is infinite or NaN
+  bool big = false;
   for (int i = 0; i < 3; ++i) {
-    bary((*fr.sub)[i], fr.C[i]);
-    for (int p = 0; p < 3; ++p) probe += fr.C[i][p] * 0.0;
+    bary((*fr.sub)[i], fr.C[i], fr.C_perm[i], accurate_near_zero);
+    for (int p = 0; p < 3; ++p) {
+      probe += fr.C[i][p] * 0.0;
+      big |= std::abs(fr.C[i][p]) > 0x1p8;
+    }
   }
-  return probe == 0.0;
+  fr.careful = big;
+  if (big) [[unlikely]] {
+    double c_max = 0.0, perm_max = 0.0;
+    for (int i = 0; i < 3; ++i)
+      for (int p = 0; p < 3; ++p) {
+        c_max = std::max(c_max, std::abs(fr.C[i][p]));
+        perm_max = std::max(perm_max, fr.C_perm[i][p]);
+      }
+    fr.C_max = c_max;
+    fr.C_error = BarycentricMap::kErrBound * perm_max * std::abs(bary.inv) * (1.0 + 0x1p-50);
+  }
+  return probe == 0.0 ? FrameStatus::ok : FrameStatus::flat_or_not_finite;
 }
 
 template <bool kMoments>
 bool run_kernel(const Frame& fr, KernelResult& res, TriIntersectionStats* stats) {
-  Kernel k(fr.C, fr.x_ccw, stats);
+  const SignGeometry geo{fr.sub, fr.ref, fr.careful, fr.C_error, fr.C_max, fr.det2 > 0.0};
+  Kernel k(fr.C, fr.x_ccw, geo, stats);
   const bool ok = k.run(res);
   if (!ok) {
     res.num_corners = 0;
@@ -598,33 +756,119 @@ bool run_kernel(const Frame& fr, KernelResult& res, TriIntersectionStats* stats)
     res.ref_first[0] = res.ref_first[1] = 0.0;
     return false;
   }
+  if (stats && res.contradiction) ++stats->inconsistencies;
   if (res.num_corners == 0) {
     res.ref_area = 0.0;
     res.ref_first[0] = res.ref_first[1] = 0.0;
     return true;
   }
+  // Corners whose computed area is not positive are kept: the labels say the polygon exists,
+  // and solve() lets exact arithmetic decide (a tangent contact, exactly zero, is then empty).
   corner_coordinates<kMoments>(fr, res, stats);
-  // Corners that enclose no area (tangent triangles: a vertex on the other's edge from outside,
-  // coincident corners) are no intersection in the arithmetic used: the result is empty.
-  if (!(res.ref_area > 0.0)) res.num_corners = 0;
   return true;
 }
 
-// As in 3D: if the labels do not close (not expected: checked by the tests), the other
-// triangle is taken as the reference, which rounds differently; only if that fails too is the
-// result empty, and counted as an inconsistency.
+// How solve() obtained the result.
+enum class Outcome {
+  empty,   // no intersection (disjoint, tangent, flat, or non-finite input)
+  kernel,  // the double kernel's result, in the frame of the (scaled) input
+  exact,   // the exact last resort (exact_polygon), for the caller's input as given
+};
+
+bool finite(const Triangle& t) {
+  for (const Vec2& p : t)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) return false;
+  return true;
+}
+
+// Whether A and B only touch, decided exactly (exact_sign.hpp): 1 if some edge line of one has
+// all of the other on its closed outer side (two convex polygons whose interiors are disjoint
+// are separated by the line of an edge of one of them), 0 if none does (their interiors
+// meet: the exact area is positive), 2 if an exact sign could not be had.
+int only_touch(const Triangle& A, const Triangle& B) {
+  for (const auto& [T, O] : {std::pair{&A, &B}, std::pair{&B, &A}}) {
+    const Triangle& t = *T;
+    const int o = detail::orient2d_sign(t[0].x, t[0].y, t[1].x, t[1].y, t[2].x, t[2].y);
+    if (o == 2 || o == 0) return 2;
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 a = t[kEdgeFrom[k]], b = t[kEdgeTo[k]];
+      bool outside = true;
+      for (const Vec2& p : *O) {
+        const int side = detail::orient2d_sign(a.x, a.y, b.x, b.y, p.x, p.y);
+        if (side == 2) return 2;
+        outside &= side * o <= 0;
+      }
+      if (outside) return 1;
+    }
+  }
+  return 0;
+}
+
+// The double kernel with what certifies its result, as in 3D: the input scaled into the range
+// the kernel is made for (rescale.hpp; `scale` receives the exponent k, results scale back by
+// 2^(2k) and 2^(3k)); if the labels do not close, the other triangle as the reference, which
+// rounds differently. The exact last resort (counted in stats) when
+//  - the frame is flat or not finite in doubles although the input is finite (a triangle far
+//    smaller than its distance from the origin, say);
+//  - the labels do not close with either reference;
+//  - the corners enclose a computed area that is not positive, and the triangles do not only
+//    touch (only_touch, exact and cheap, decides the usual case of a tangent contact: empty),
+//    or an area that is not finite;
+//  - the area exceeds the smaller triangle's (|det| / 2, accurate to 1e-14, shape_quality) by
+//    more than 1e-12 of it.
+// Every test is on numbers all entry points compute alike, so they all take the same way.
 template <bool kMoments>
-bool solve(const Triangle& A, const Triangle& B, Frame& fr, KernelResult& res, TriIntersectionStats* stats) {
-  if (!make_frame(A, B, fr)) {
-    res.num_corners = 0;
-    res.ref_area = 0.0;
-    return false;
+Outcome solve(const Triangle& A_in, const Triangle& B_in, Frame& fr, KernelResult& res, int& scale,
+              TriIntersectionStats* stats) {
+  res.num_corners = 0;
+  res.ref_area = 0.0;
+  scale = 0;
+  Triangle scaled_a, scaled_b;
+  const Triangle* As = &A_in;
+  const Triangle* Bs = &B_in;
+  FrameStatus status = make_frame(A_in, B_in, fr);
+  if (status == FrameStatus::rescale) [[unlikely]] {
+    // Scale the larger triangle's size to about 1; the smaller one must then be in range too.
+    if (!finite(A_in) || !finite(B_in)) return Outcome::empty;
+    if (stats) ++stats->rescaled;
+    scale = -(std::ilogb(fr.size_squared_max) / 2);
+    if (!detail::scaled_exactly(&A_in[0].x, 6, scale, &scaled_a[0].x) ||
+        !detail::scaled_exactly(&B_in[0].x, 6, scale, &scaled_b[0].x))
+      return Outcome::exact;
+    As = &scaled_a;
+    Bs = &scaled_b;
+    status = make_frame(*As, *Bs, fr);
+    if (status == FrameStatus::rescale) return Outcome::exact;  // sizes 2^500 apart
+  }
+  if (status != FrameStatus::ok) {
+    // Non-finite input is empty (the documented contract); a frame that fails on finite input
+    // is a triangle that is flat in doubles: exactly flat ones are empty in exact arithmetic too.
+    return finite(A_in) && finite(B_in) ? Outcome::exact : Outcome::empty;
   }
   if (stats && fr.swapped) ++stats->reference_swaps;
   bool ok = run_kernel<kMoments>(fr, res, stats);
-  if (!ok) ok = make_frame(A, B, fr, true) && run_kernel<kMoments>(fr, res, stats);
-  if (stats && (!ok || res.contradiction)) ++stats->inconsistencies;
-  return ok;
+  if (!ok) {
+    if (stats) ++stats->retries;
+    ok = make_frame(*As, *Bs, fr, true) == FrameStatus::ok && run_kernel<kMoments>(fr, res, stats);
+    if (!ok) {
+      if (stats) ++stats->inconsistencies;
+      return Outcome::exact;
+    }
+  }
+  if (res.num_corners == 0) return Outcome::empty;
+  const double area = res.ref_area * std::abs(res.frame_det);
+  if (!(area > 0.0)) [[unlikely]]
+    return only_touch(*As, *Bs) == 1 ? Outcome::empty : Outcome::exact;
+  const double smaller = 0.5 * std::min(std::abs(fr.det2), std::abs(fr.det2_sub));
+  if (!(area <= smaller * (1.0 + 1e-12)) || !(area < INFINITY)) return Outcome::exact;
+  // Scaled back, an area in the subnormal range (or beyond the largest double) would be rounded
+  // a second time, which can make it 0 (or infinite) where the exact area does not round to
+  // that: exact arithmetic rounds it once.
+  if (scale != 0) {
+    const double back = std::ldexp(area, -2 * scale);
+    if (!(back >= 0x1p-1022) || !(back < INFINITY)) return Outcome::exact;
+  }
+  return Outcome::kernel;
 }
 
 Moments2 original_moments(const Frame& fr, const KernelResult& res) {
@@ -643,9 +887,10 @@ Moments2 original_moments(const Frame& fr, const KernelResult& res) {
 // Fills a Polygon from the kernel's result: corners counter-clockwise in the original
 // coordinates (the kernel's order is counter-clockwise in the frame of Y, which a negatively
 // oriented reference reverses), exact input vertices where a corner is one, labels and
-// barycentric coordinates relative to the caller's argument order.
+// barycentric coordinates relative to the caller's argument order. `scale`: the exponent the
+// input was scaled by (solve), undone here.
 struct PolygonBuilder {
-  static void fill(Polygon& P, const detail2::Frame& fr, const detail2::KernelResult& res) {
+  static void fill(Polygon& P, const detail2::Frame& fr, const detail2::KernelResult& res, int scale) {
     using detail2::RawCorner;
     const int n = res.num_corners;
     P.num_corners_ = n;
@@ -659,9 +904,22 @@ struct PolygonBuilder {
     for (int k = 0; k < n; ++k) {
       const RawCorner& rc = res.corners[res.order[reverse ? n - 1 - k : k]];
       PolygonCorner& out = P.corners_[static_cast<std::size_t>(k)];
-      if (rc.kind == detail2::kVertexOfX) out.point = s[rc.index];
-      else if (rc.kind == detail2::kVertexOfY) out.point = r[rc.index];
-      else out.point = r[0] + (rc.bary[1] * a1 + rc.bary[2] * a2);
+      if (rc.kind == detail2::kVertexOfX) {
+        out.point = s[rc.index];
+      } else if (rc.kind == detail2::kVertexOfY) {
+        out.point = r[rc.index];
+      } else if (res.sub_frame) {
+        // X is the smaller triangle: the crossing from its weight along X's edge, accurate
+        // relative to X (the frame of Y resolves it only to eps times Y's size). The weight and
+        // the coordinates in Y describe the same point to that accuracy: both come from the
+        // same coordinates of the edge's ends, recomputed accurately where needed.
+        const int e = rc.index / 3;
+        const Vec2 from = s[detail2::kEdgeFrom[e]], to = s[detail2::kEdgeTo[e]];
+        out.point = from + rc.weight_b * (to - from);
+      } else {
+        out.point = r[0] + (rc.bary[1] * a1 + rc.bary[2] * a2);
+      }
+      if (scale != 0) out.point = {std::ldexp(out.point.x, -scale), std::ldexp(out.point.y, -scale)};
       // Kernel labels in canonical numbering -> the caller's vertex numbering of each triangle.
       const auto to_caller = [&fr](int l) { return l < 3 ? int(fr.sub_perm[l]) : 3 + int(fr.ref_perm[l - 3]); };
       int l0 = to_caller(rc.in), l1 = to_caller(rc.out);
@@ -686,7 +944,7 @@ struct PolygonBuilder {
         b[detail2::kEdgeTo[e]] = rc.weight_b;
       } else {
         const detail2::BarycentricMap map(B, orient2d(B[0], B[1], B[2]));
-        map(out.point, b);
+        map(r[rc.index], b);
         double sum = 0.0;
         for (double& v : b) {
           v = v > 0.0 ? v : 0.0;  // the corner is in B by construction
@@ -696,9 +954,33 @@ struct PolygonBuilder {
       }
       for (int p = 0; p < 3; ++p) out.bary[fr.sub_perm[p]] = b[p];  // B is X, canonically numbered
     }
-    // Sides: between consecutive corners, on the line both carry (the one corner k leaves by).
-    // A side on a line of B touches that edge; a side on an edge of A touches the edge of B
-    // whose coordinate is exactly zero at both of its ends (a shared or collinear edge).
+    touched_edges(P);
+    P.moments_ = detail2::original_moments(fr, res);
+    if (scale != 0) {
+      P.moments_.area = std::ldexp(P.moments_.area, -2 * scale);
+      P.moments_.first = {std::ldexp(P.moments_.first.x, -3 * scale), std::ldexp(P.moments_.first.y, -3 * scale)};
+    }
+  }
+
+  // The exact last resort's polygon (exact_fallback.hpp): already in the caller's numbering.
+  static void fill_exact(Polygon& P, const detail::ExactPolygon& x) {
+    P.num_corners_ = x.num_corners;
+    for (int k = 0; k < x.num_corners; ++k) {
+      PolygonCorner& out = P.corners_[static_cast<std::size_t>(k)];
+      out.point = x.point[k];
+      out.bary = {x.bary[k][0], x.bary[k][1], x.bary[k][2]};
+      out.labels = {x.labels[k][0], x.labels[k][1]};
+    }
+    touched_edges(P);
+    P.moments_ = x.moments;
+  }
+
+  // Sides: between consecutive corners, on the line both carry (the one corner k leaves by).
+  // A side on a line of B touches that edge; a side on an edge of A touches the edge of B
+  // whose coordinate is exactly zero at both of its ends (a shared or collinear edge).
+  static void touched_edges(Polygon& P) {
+    const int n = P.num_corners_;
+    P.touched_b_ = 0;
     for (int k = 0; k < n; ++k) {
       const PolygonCorner& c0 = P.corners_[static_cast<std::size_t>(k)];
       const PolygonCorner& c1 = P.corners_[static_cast<std::size_t>((k + 1) % n)];
@@ -715,7 +997,6 @@ struct PolygonBuilder {
               P.touched_b_ |= 1u << p;
         }
     }
-    P.moments_ = detail2::original_moments(fr, res);
   }
 };
 
@@ -724,22 +1005,61 @@ Polygon intersect(const Triangle& A, const Triangle& B, TriIntersectionStats* st
   if (stats) ++stats->calls;
   detail2::Frame fr;
   detail2::KernelResult res;
-  if (detail2::solve<true>(A, B, fr, res, stats)) PolygonBuilder::fill(P, fr, res);
+  int scale = 0;
+  switch (detail2::solve<true>(A, B, fr, res, scale, stats)) {
+    case detail2::Outcome::empty:
+      break;
+    case detail2::Outcome::kernel:
+      PolygonBuilder::fill(P, fr, res, scale);
+      break;
+    case detail2::Outcome::exact: {
+      if (stats) ++stats->exact_fallbacks;
+      detail::ExactPolygon x;
+      detail::exact_polygon(A, B, x);
+      PolygonBuilder::fill_exact(P, x);
+      break;
+    }
+  }
   return P;
-}
-
-double intersection_area(const Triangle& A, const Triangle& B) {
-  detail2::Frame fr;
-  detail2::KernelResult res;
-  if (!detail2::solve<false>(A, B, fr, res, nullptr)) return 0.0;
-  return res.ref_area * std::abs(res.frame_det);
 }
 
 Moments2 intersection_moments(const Triangle& A, const Triangle& B) {
   detail2::Frame fr;
   detail2::KernelResult res;
-  if (!detail2::solve<true>(A, B, fr, res, nullptr)) return {};
-  return detail2::original_moments(fr, res);
+  int scale = 0;
+  switch (detail2::solve<true>(A, B, fr, res, scale, nullptr)) {
+    case detail2::Outcome::empty:
+      return {};
+    case detail2::Outcome::kernel: {
+      Moments2 m = detail2::original_moments(fr, res);
+      if (scale != 0) m = {std::ldexp(m.area, -2 * scale), {std::ldexp(m.first.x, -3 * scale), std::ldexp(m.first.y, -3 * scale)}};
+      return m;
+    }
+    case detail2::Outcome::exact:
+      break;
+  }
+  detail::ExactPolygon x;
+  detail::exact_polygon(A, B, x);
+  return x.moments;
+}
+
+double intersection_area(const Triangle& A, const Triangle& B) {
+  detail2::Frame fr;
+  detail2::KernelResult res;
+  int scale = 0;
+  switch (detail2::solve<false>(A, B, fr, res, scale, nullptr)) {
+    case detail2::Outcome::empty:
+      return 0.0;
+    case detail2::Outcome::kernel: {
+      const double area = res.ref_area * std::abs(res.frame_det);
+      return scale == 0 ? area : std::ldexp(area, -2 * scale);
+    }
+    case detail2::Outcome::exact:
+      break;
+  }
+  detail::ExactPolygon x;
+  detail::exact_polygon(A, B, x);
+  return x.moments.area;
 }
 
 }  // namespace tetia

@@ -197,5 +197,6 @@ TEST(TriVsExact, FarFromOrigin) { run_family("FarFromOrigin"); }
 TEST(TriVsExact, Slivers) { run_family("Slivers"); }
 TEST(TriVsExact, TinyInBig) { run_family("TinyInBig"); }
 TEST(TriVsExact, Lattice) { run_family("Lattice"); }
+TEST(TriVsExact, Adversarial) { run_family("Adversarial"); }
 
 }  // namespace

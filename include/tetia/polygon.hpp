@@ -28,7 +28,9 @@ struct Moments2 {
   double area = 0.0;
   Vec2 first{};  ///< integral of (x, y) over the region; centroid = first / area
 
-  Vec2 centroid() const { return area > 0.0 ? (1.0 / area) * first : Vec2{}; }
+  /// Divided coordinate by coordinate: finite for every positive area, subnormal ones included
+  /// (1 / area would overflow there).
+  Vec2 centroid() const { return area > 0.0 ? Vec2{first.x / area, first.y / area} : Vec2{}; }
 };
 
 /// One corner of a triangle-triangle intersection.

@@ -27,8 +27,10 @@ struct Moments {
   double volume = 0.0;
   Vec3 first{};  ///< integral of (x, y, z) over the region; centroid = first / volume
 
+  /// Divided coordinate by coordinate: finite for every positive volume, subnormal ones
+  /// included (1 / volume would overflow there).
   Vec3 centroid() const {
-    return volume > 0.0 ? (1.0 / volume) * first : Vec3{};
+    return volume > 0.0 ? Vec3{first.x / volume, first.y / volume, first.z / volume} : Vec3{};
   }
 };
 

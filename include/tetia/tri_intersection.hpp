@@ -3,9 +3,16 @@
 // 2022), as summarized in Algorithm 1 of their tetrahedron paper.
 //
 // Contract (the 2D counterpart of tet_intersection.hpp):
-//  - Any vertex orientation of A and B is accepted. A flat (zero-area, as computed) A or B gives
-//    an empty result, not an error. Non-finite input gives an empty result; check input at the
-//    boundary (the CLI and the mesh readers do).
+//  - Any vertex orientation of A and B is accepted. Non-finite input gives an empty result;
+//    check input at the boundary (the CLI and the mesh readers do).
+//  - Any finite input, from subnormal to 1e308 coordinates, gives a finite result: the area is
+//    >= 0 and at most min(|A|, |B|) (1 + 1e-12), and it is 0 (or infinite) only when the exact
+//    area rounds to that. A flat triangle (exactly collinear vertices) or a tangent contact
+//    gives an empty polygon. Extreme magnitudes are rescaled by an exact power of two; what
+//    the double computation does not certify (a frame that is flat in doubles although the input
+//    is not, labels that do not close with either reference, an area that is not finite, is not
+//    positive although corners were found, or exceeds the smaller triangle) is computed exactly
+//    (GMP rationals, src/kernel/exact_fallback.hpp) and rounded once; the statistics count it.
 //  - The result is consistent: its corners form a closed convex polygon ordered from their labels
 //    alone, so a real intersection cannot vanish through rounding.
 //  - Symmetric: intersect(A, B) and intersect(B, A) compute the same polygon bit for bit (the
@@ -14,7 +21,10 @@
 //    coordinates are reported relative to the caller's argument and vertex order.
 //  - Accuracy: within 1e-12 of the exact area relative to the smaller triangle on the tested
 //    families (tests/test_tri_vs_exact.cpp); tangent contacts give an empty polygon.
-//  - No heap allocation, no exceptions.
+//  - Every entry point (intersect with or without statistics, intersection_area,
+//    intersection_moments, either argument order) gives the same area bit for bit.
+//  - No heap allocation and no exceptions on the double path; the exact last resort allocates
+//    (GMP) and is taken only for the inputs listed above.
 #pragma once
 
 #include <cstdint>
@@ -33,7 +43,14 @@ struct TriIntersectionStats {
   std::int64_t corner_coordinates = 0;  ///< coordinates evaluated for corners that lie on Y
   std::int64_t guardrail_clamps = 0;    ///< a computed coordinate clamped to its decided sign
   std::int64_t reference_swaps = 0;     ///< A was better conditioned and became the reference
-  std::int64_t inconsistencies = 0;     ///< label walks that did not close (never expected)
+  std::int64_t inconsistencies = 0;     ///< sign contradictions, and label walks that did not
+                                        ///< close with either reference (never expected)
+  std::int64_t retries = 0;             ///< label walks that did not close, redone with the
+                                        ///< other reference
+  std::int64_t refined = 0;             ///< corner coordinates recomputed in extended precision
+                                        ///< (the plain ones were not accurate to 2^-44)
+  std::int64_t rescaled = 0;            ///< inputs scaled by a power of two (extreme magnitudes)
+  std::int64_t exact_fallbacks = 0;     ///< results computed exactly (the last resort)
   std::int64_t calls = 0;
 
   TriIntersectionStats& operator+=(const TriIntersectionStats& o);

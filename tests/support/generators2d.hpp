@@ -79,7 +79,8 @@ inline std::string fmt_stats(const TriIntersectionStats& s) {
     << " edge_straight_line=" << s.edge_straight_line << " edge_computed=" << s.edge_computed
     << " corner_coordinates=" << s.corner_coordinates << " guardrail_clamps=" << s.guardrail_clamps
     << " reference_swaps=" << s.reference_swaps << " inconsistencies=" << s.inconsistencies
-    << " calls=" << s.calls;
+    << " retries=" << s.retries << " refined=" << s.refined << " rescaled=" << s.rescaled
+    << " exact_fallbacks=" << s.exact_fallbacks << " calls=" << s.calls;
   return o.str();
 }
 
@@ -598,7 +599,7 @@ inline std::vector<Case> slivers() {
         break;
       }
     }
-    v.push_back(make_case(g, random_perm(g, S), random_perm(g, T), kind, Norm::Max, exact_zero));
+    v.push_back(make_case(g, random_perm(g, S), random_perm(g, T), kind, Norm::Min, exact_zero));
   }
   return v;
 }
@@ -658,8 +659,78 @@ inline std::vector<Case> tiny_in_big() {
       // Not too flat: at least 1e-2 of s^2 (the tiny triangle's scale).
       if (!flat(T) && area(T) > 1e-2 * s * s) break;
     }
-    v.push_back(make_case(g, random_perm(g, Big), random_perm(g, T), kind, Norm::Max));
+    v.push_back(make_case(g, random_perm(g, Big), random_perm(g, T), kind));
   }
+  return v;
+}
+
+// --- adversarial: size ratios, slivers, scales and translations (issue 15) ------------------
+
+/// Pairs whose error is measured against the smaller triangle at every size ratio, sliver
+/// height, scale and distance from the origin (arbitrary doubles; the exact reference takes
+/// them as they are):
+///  - ratio-cut-R, ratio-in-R: a random triangle 1/R the size of a rotated reference (no edge
+///    axis-aligned), centred on the midpoint of one of its edges (cut by it) or strictly inside,
+///    R = 1e3, 1e6, 1e9, 1e12, 1e14, 1e16;
+///  - sliver-H: a triangle of relative height H = 1e-6, 1e-9, 1e-12 across a fat one, rotated;
+///  - scale-K: a random pair scaled by 2^K, K = +-300, +-400, +-500 (the products of the
+///    kernel leave the double range there without the rescaling);
+///  - translate-K: a random pair translated by (2^K, -2^K) (rounded), K = 20, 35, 50.
+inline std::vector<Case> adversarial() {
+  Rng g(0x7e7a200d);
+  std::vector<Case> v;
+  const double ratios[] = {1e3, 1e6, 1e9, 1e12, 1e14, 1e16};
+  const char* cut_kinds[] = {"ratio-cut-1e3", "ratio-cut-1e6", "ratio-cut-1e9", "ratio-cut-1e12", "ratio-cut-1e14", "ratio-cut-1e16"};
+  const char* in_kinds[] = {"ratio-in-1e3", "ratio-in-1e6", "ratio-in-1e9", "ratio-in-1e12", "ratio-in-1e14", "ratio-in-1e16"};
+  auto fat = [&](double size) {
+    for (;;) {
+      const Triangle t = scale(unit_random_tri(g), size);
+      if (area(t) >= 0.05 * size * size) return t;
+    }
+  };
+  // The small triangle is of size 1 near the origin, where its coordinates resolve it, and the
+  // big one R times larger (a small triangle of size 1e-16 at coordinates of order 1 would be
+  // flat to the rounding of its own coordinates).
+  for (int r = 0; r < 6; ++r)
+    for (int n = 0; n < 150; ++n) {
+      const double theta = urand(g, 0.1, 6.2);
+      const Triangle big = scale(rotate(Triangle{Vec2{0, 0}, Vec2{1, 0}, Vec2{0.3, 0.9}}, Vec2{0, 0}, theta), ratios[r]);
+      const Triangle t = fat(1.0);
+      const Vec2 c = (1.0 / 3.0) * (t[0] + t[1] + t[2]);
+      const int e = irand(g, 0, 2);
+      const Vec2 mid = 0.5 * (big[(e + 1) % 3] + big[(e + 2) % 3]);
+      v.push_back(make_case(g, random_perm(g, translate(big, c - mid)), random_perm(g, t), cut_kinds[r]));
+      const Vec2 inside = (1.0 / 3.0) * (big[0] + big[1] + big[2]);
+      v.push_back(make_case(g, random_perm(g, translate(big, c - inside)), random_perm(g, t), in_kinds[r]));
+    }
+  const double heights[] = {1e-6, 1e-9, 1e-12};
+  const char* sliver_kinds[] = {"sliver-1e-6", "sliver-1e-9", "sliver-1e-12"};
+  for (int h = 0; h < 3; ++h)
+    for (int n = 0; n < 200; ++n) {
+      const double theta = urand(g, 0.1, 6.2);
+      const Vec2 o{urand(g, 0.2, 0.8), urand(g, 0.2, 0.8)};
+      const Triangle S{Vec2{-0.6, 0.0}, Vec2{0.7, urand(g, -0.1, 0.1)}, Vec2{urand(g, -0.3, 0.3), heights[h]}};
+      v.push_back(make_case(g, random_perm(g, rotate(fat(1.0), o, theta)), random_perm(g, translate(rotate(S, Vec2{0, 0}, theta), o)),
+                            sliver_kinds[h]));
+    }
+  const int exps[] = {-500, -400, -300, 300, 400, 500};
+  const char* scale_kinds[] = {"scale-2^-500", "scale-2^-400", "scale-2^-300", "scale-2^300", "scale-2^400", "scale-2^500"};
+  for (int k = 0; k < 6; ++k)
+    for (int n = 0; n < 150; ++n) {
+      const double f = std::ldexp(1.0, exps[k]);
+      v.push_back(make_case(g, scale(fat(1.0), f), scale(fat(1.0), f), scale_kinds[k]));
+    }
+  const int shifts[] = {20, 35, 50};
+  const char* shift_kinds[] = {"translate-2^20", "translate-2^35", "translate-2^50"};
+  for (int k = 0; k < 3; ++k)
+    for (int n = 0; n < 150; ++n) {
+      const Vec2 o{std::ldexp(1.0, shifts[k]), -std::ldexp(1.0, shifts[k])};
+      Triangle A, B;
+      do {  // rounded to the grid of doubles near 2^K: redrawn if that flattens one
+        A = translate(fat(1.0), o), B = translate(fat(1.0), o);
+      } while (area(A) < 0.02 || area(B) < 0.02);
+      v.push_back(make_case(g, A, B, shift_kinds[k]));
+    }
   return v;
 }
 
@@ -715,6 +786,7 @@ inline const std::vector<Family>& families() {
       {"Slivers", false, slivers},
       {"TinyInBig", false, tiny_in_big},
       {"Lattice", false, lattice},
+      {"Adversarial", false, adversarial},
   };
   return list;
 }
