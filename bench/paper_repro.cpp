@@ -256,7 +256,7 @@ void write_stats(FILE* f, const char* workload, const tetia::IntersectionStats& 
                (long long)s.edge_paired, (long long)s.edge_straight_line, (long long)s.edge_computed,
                (long long)s.face_inherited, (long long)s.face_paired, (long long)s.face_computed,
                (long long)s.corner_coordinates, (long long)s.guardrail_clamps,
-               (long long)s.retries, (long long)s.inconsistencies, (long long)s.nonconvex_repairs,
+               (long long)s.retries, (long long)s.inconsistencies, (long long)s.nonconvex_lines,
                (long long)s.reference_swaps);
   std::printf("%-22s calls %lld: edge signs %lld (inh %lld, paired %lld, straight %lld, computed "
               "%lld), face signs %lld (inh %lld, paired %lld, computed %lld), corner coords %lld, "
@@ -273,7 +273,7 @@ void run_parsimony(const Options& o) {
   FILE* f = open_csv(o, "parsimony.csv");
   std::fprintf(f, "workload,calls,edge_crossings,face_points,edge_inherited,edge_paired,"
                   "edge_straight_line,edge_computed,face_inherited,face_paired,face_computed,"
-                  "corner_coordinates,guardrail_clamps,retries,inconsistencies,nonconvex_repairs,"
+                  "corner_coordinates,guardrail_clamps,retries,inconsistencies,nonconvex_lines,"
                   "reference_swaps\n");
   std::printf("== Parsimony (Sections 4.1, 5.1)\n");
 

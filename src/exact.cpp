@@ -26,6 +26,7 @@
 
 #include "kernel/exact_fallback.hpp"
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -235,12 +236,14 @@ mpq_class volume(const Tet& t) {
   return abs(det) / 6;
 }
 
-// Contract: the exact volume of U ∩ V for closed U, V in any vertex order; 0 when they touch or
-// are disjoint or either is flat. Throws std::domain_error on a non-finite coordinate.
-// Reentrant: the workspace is per thread.
-mpq_class intersection_volume(const Tet& U, const Tet& V) {
-  Workspace& w = workspace();
-  const long emin = scale_to_integers(U, V, w);
+namespace {
+
+// Steps 1-3 for U and V: the planes, and the distinct feasible points into w.pt[0..np) with
+// their incidence masks (bit f: on plane f); emin as scale_to_integers. Returns np, 0 when the
+// intersection has no interior for a reason found on the way (a flat tetrahedron, a separating
+// face plane). Shared by intersection_volume and the kernel's last resort (exact_polyhedron).
+int feasible_points(const Tet& U, const Tet& V, Workspace& w, long& emin, std::array<std::uint8_t, kMaxPoints>& mask) {
+  emin = scale_to_integers(U, V, w);
   if (!build_planes(w.vert[0], &w.n[0], &w.d[0], w) ||
       !build_planes(w.vert[1], &w.n[4], &w.d[4], w)) {
     return 0;  // a flat tetrahedron: the intersection has no interior
@@ -268,7 +271,7 @@ mpq_class intersection_volume(const Tet& U, const Tet& V) {
   // is exact and needs no comparison of coordinates.
   std::array<std::int8_t, 256> index_of_mask;
   index_of_mask.fill(-1);
-  std::array<std::uint8_t, kMaxPoints> mask{};
+  mask.fill(0);
   int np = 0;
   for (int i = 0; i < kPlanes; ++i) {
     for (int j = i + 1; j < kPlanes; ++j) {
@@ -313,6 +316,19 @@ mpq_class intersection_volume(const Tet& U, const Tet& V) {
       }
     }
   }
+  return np;
+}
+
+}  // namespace
+
+// Contract: the exact volume of U ∩ V for closed U, V in any vertex order; 0 when they touch or
+// are disjoint or either is flat. Throws std::domain_error on a non-finite coordinate.
+// Reentrant: the workspace is per thread.
+mpq_class intersection_volume(const Tet& U, const Tet& V) {
+  Workspace& w = workspace();
+  long emin = 0;
+  std::array<std::uint8_t, kMaxPoints> mask;
+  const int np = feasible_points(U, V, w, emin, mask);
   if (np < 4) return 0;  // at most a triangle: no interior
 
   // Step 4: pyramids from the apex P0 = pt[0]. h_f = W0 * (n_f . p0 - d_f) >= 0 is W0 times the
@@ -421,6 +437,136 @@ mpq_class intersection_volume(const Tet& U, const Tet& V) {
 double intersection_volume_double(const Tet& U, const Tet& V) {
   return round_to_double(intersection_volume(U, V));
 }
+
+}  // namespace tetia::exact
+
+namespace tetia::detail {
+
+// The exact polytope of feasible_points as a Polyhedron's data (exact_fallback.hpp).
+void exact_polyhedron(const Tet& U, const Tet& V, ExactPolyhedron& out) {
+  using namespace exact;
+  out.num_corners = out.num_facets = 0;
+  out.simple = true;
+  out.facet_begin[0] = 0;
+  out.moments = {};
+  Workspace& w = workspace();
+  long emin = 0;
+  std::array<std::uint8_t, kMaxPoints> mask;
+  const int np = feasible_points(U, V, w, emin, mask);
+  if (np < 4) return;
+  if (np > Polyhedron::max_corners) throw std::logic_error("exact_polyhedron: too many corners");
+  // The points in original coordinates: x = (X / W) 2^emin + U[0] (scale_to_integers).
+  const auto unscale = [emin](mpq_class q) {
+    if (emin >= 0) mpq_mul_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<mp_bitcnt_t>(emin));
+    else mpq_div_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<mp_bitcnt_t>(-emin));
+    return q;
+  };
+  std::vector<std::array<mpq_class, 3>> q(static_cast<std::size_t>(np));
+  for (int p = 0; p < np; ++p)
+    for (int k = 0; k < 3; ++k) {
+      mpq_class x(w.pt[p][k], w.pt[p][3]);
+      x.canonicalize();
+      q[static_cast<std::size_t>(p)][static_cast<std::size_t>(k)] = unscale(x) + mpq_class(U[0][k]);
+    }
+  // Facets: the points on each plane, counter-clockwise in the projection along the normal's
+  // largest component (as intersection_volume orders them), reversed where that axis and the
+  // outward normal -n_f point opposite ways. A plane whose points are those of an earlier plane
+  // (a face of U and one of V coinciding with the same orientation) is that facet: shadowed.
+  unsigned shadowed = 0;
+  std::array<std::uint64_t, kPlanes> sets{};
+  int used = 0;
+  for (int f = 0; f < kPlanes; ++f) {
+    std::array<int, kMaxPoints> on{};
+    int k = 0;
+    std::uint64_t set = 0;
+    for (int p = 0; p < np; ++p)
+      if ((mask[static_cast<std::size_t>(p)] >> f) & 1u) {
+        on[static_cast<std::size_t>(k++)] = p;
+        set |= std::uint64_t{1} << p;
+      }
+    sets[static_cast<std::size_t>(f)] = set;
+    if (k < 3) continue;
+    bool duplicate = false;
+    for (int g = 0; g < f; ++g) duplicate = duplicate || sets[static_cast<std::size_t>(g)] == set;
+    if (duplicate) {
+      shadowed |= 1u << f;
+      continue;
+    }
+    int axis = 0;
+    for (int x = 1; x < 3; ++x)
+      if (mpz_cmpabs(w.n[f][x].get_mpz_t(), w.n[f][axis].get_mpz_t()) > 0) axis = x;
+    const int iu = (axis + 1) % 3, iv = (axis + 2) % 3;
+    const mpz_class* Q0 = w.pt[on[0]];
+    for (int a = 2; a < k; ++a)
+      for (int b = a; b > 1 && orient2d(Q0, w.pt[on[static_cast<std::size_t>(b)]], w.pt[on[static_cast<std::size_t>(b - 1)]], iu, iv, w) > 0; --b)
+        std::swap(on[static_cast<std::size_t>(b)], on[static_cast<std::size_t>(b - 1)]);
+    if (sgn(w.n[f][axis]) > 0) std::reverse(on.begin() + 1, on.begin() + k);
+    if (used + k > Polyhedron::max_facet_indices || out.num_facets == Polyhedron::max_facets)
+      throw std::logic_error("exact_polyhedron: too many facets");
+    for (int a = 0; a < k; ++a) out.facet_index[used++] = static_cast<std::uint8_t>(on[static_cast<std::size_t>(a)]);
+    out.facet_label[out.num_facets] = static_cast<std::uint8_t>(f);
+    out.facet_begin[++out.num_facets] = static_cast<std::uint8_t>(used);
+  }
+  // Volume and first moments: tetrahedra from point 0 over the fans of the facets not through it.
+  mpq_class volume = 0, first[3] = {0, 0, 0};
+  const auto& p0 = q[0];
+  for (int fi = 0; fi < out.num_facets; ++fi) {
+    const int f = out.facet_label[fi];
+    if ((mask[0] >> f) & 1u) continue;
+    const int b = out.facet_begin[fi], e = out.facet_begin[fi + 1];
+    const auto& a0 = q[out.facet_index[b]];
+    for (int t = b + 1; t + 1 < e; ++t) {
+      const auto& a1 = q[out.facet_index[t]];
+      const auto& a2 = q[out.facet_index[t + 1]];
+      mpq_class d[3][3];
+      for (int x = 0; x < 3; ++x) {
+        d[0][x] = a0[static_cast<std::size_t>(x)] - p0[static_cast<std::size_t>(x)];
+        d[1][x] = a1[static_cast<std::size_t>(x)] - p0[static_cast<std::size_t>(x)];
+        d[2][x] = a2[static_cast<std::size_t>(x)] - p0[static_cast<std::size_t>(x)];
+      }
+      const mpq_class det = d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1]) -
+                            d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0]) +
+                            d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0]);
+      const mpq_class v = abs(det) / 6;
+      volume += v;
+      for (int x = 0; x < 3; ++x)
+        first[x] += v * (p0[static_cast<std::size_t>(x)] + a0[static_cast<std::size_t>(x)] + a1[static_cast<std::size_t>(x)] +
+                         a2[static_cast<std::size_t>(x)]) / 4;
+    }
+  }
+  if (sgn(volume) == 0) {  // flat: no interior
+    out.num_facets = 0;
+    out.facet_begin[0] = 0;
+    return;
+  }
+  out.moments.volume = round_to_double(volume);
+  out.moments.first = {round_to_double(first[0]), round_to_double(first[1]), round_to_double(first[2])};
+  // Corners: the points, their labels, and their barycentric coordinates in V, coordinate k
+  // being (n . P - d W) / (W (n . v_k - d)) for V's face k (plane 4 + k) and vertex v_k.
+  for (int p = 0; p < np; ++p) {
+    const unsigned m = mask[static_cast<std::size_t>(p)] & ~shadowed;
+    int n = 0;
+    for (int f = 0; f < kPlanes && n < 3; ++f)
+      if ((m >> f) & 1u) out.labels[p][n++] = static_cast<std::uint8_t>(f);
+    out.simple = out.simple && n == 3 && std::popcount(m) == 3;
+    for (int k = 0; k < 3; ++k) out.point[p][k] = round_to_double(q[static_cast<std::size_t>(p)][static_cast<std::size_t>(k)]);
+    for (int k = 0; k < 4; ++k) {
+      dot(w.n[4 + k], w.pt[p], w.t0);
+      mpz_submul(w.t0.get_mpz_t(), w.d[4 + k].get_mpz_t(), w.pt[p][3].get_mpz_t());
+      dot(w.n[4 + k], w.vert[1][k], w.t1);
+      w.t1 -= w.d[4 + k];
+      w.t1 *= w.pt[p][3];
+      mpq_class coordinate(w.t0, w.t1);
+      coordinate.canonicalize();
+      out.bary[p][k] = round_to_double(coordinate);
+    }
+  }
+  out.num_corners = np;
+}
+
+}  // namespace tetia::detail
+
+namespace tetia::exact {
 
 // =============================================================================================
 // 2D: the intersection area of two triangles.

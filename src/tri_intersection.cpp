@@ -384,7 +384,16 @@ struct DoubleDouble {
   double value() const { return hi + lo; }
 };
 
+// To a few ulps where exact_sign.hpp's expansion applies (differences below 2^496, products
+// above 2^-969: always, for rescaled input), else the double-double evaluation below, whose
+// error is about eps^2 times the permanent (not enough for the most extreme needles alone).
+double orient2d_dd(Vec2 a, Vec2 b, Vec2 c);
 double orient2d_accurate(Vec2 a, Vec2 b, Vec2 c) {
+  double v;
+  if (detail::orient2d_rounded(a.x, a.y, b.x, b.y, c.x, c.y, v)) return v;
+  return orient2d_dd(a, b, c);
+}
+double orient2d_dd(Vec2 a, Vec2 b, Vec2 c) {
   // The differences exactly, as hi + lo (Knuth's two-difference), so that the result does not
   // depend on where the triangle is (coordinates of 1e8 with a triangle of size 1e-3 would
   // otherwise leave the products' rounding larger than the determinant).
@@ -483,6 +492,7 @@ struct BarycentricMap {
         if (!(std::abs(det) > 8.0 * 0x1p-106 * permanent)) det = 0.0;
       }
       out[k] = det * inv;
+      if (std::abs(out[k]) < 0x1p-500) out[k] = 0.0;  // see make_frame: products stay normal
     }
     for (int k = 0; k < 3; ++k)
       if (u == vertex[k]) {
@@ -703,7 +713,11 @@ FrameStatus make_frame(const Triangle& A_in, const Triangle& B_in, Frame& fr, bo
   const double qA = shape_quality(A, detA, sA), qB = shape_quality(B, detB, sB);
   fr.size_squared_max = std::max(sA, sB);
   const bool accurate_near_zero = !(sA <= 0x1p20 * sB && sB <= 0x1p20 * sA);
-  if (!(sA >= 0x1p-500 && sB >= 0x1p-500 && sA <= 0x1p500 && sB <= 0x1p500)) return FrameStatus::rescale;
+  // (Also when the sizes are more than 2^250 apart: after scaling the larger to 1 the smaller is
+  // then out of range, and the exact last resort decides. Products of two coordinates then stay
+  // normal once coordinates below 2^-500 are 0, which moves a vertex by 2^-250 of the smaller.)
+  if (!(sA >= 0x1p-500 && sB >= 0x1p-500 && sA <= 0x1p500 && sB <= 0x1p500 && sA <= 0x1p500 * sB && sB <= 0x1p500 * sA))
+    return FrameStatus::rescale;
   if (!(qA > 0.0) || !(qB > 0.0) || !(qA < INFINITY) || !(qB < INFINITY)) return FrameStatus::flat_or_not_finite;
   bool use_a = qA > qB;
   if (qA == qB) {
@@ -943,8 +957,10 @@ struct PolygonBuilder {
         b[detail2::kEdgeFrom[e]] = 1.0 - rc.weight_b;
         b[detail2::kEdgeTo[e]] = rc.weight_b;
       } else {
-        const detail2::BarycentricMap map(B, orient2d(B[0], B[1], B[2]));
-        map(r[rc.index], b);
+        // B's determinant as shape_quality has it (accurate for a needle too), and the vertex's
+        // coordinates accurately: a vertex of A inside a needle B.
+        const detail2::BarycentricMap map(B, fr.det2_sub);
+        map.accurate(r[rc.index], b);
         double sum = 0.0;
         for (double& v : b) {
           v = v > 0.0 ? v : 0.0;  // the corner is in B by construction

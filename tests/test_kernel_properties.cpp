@@ -21,7 +21,8 @@
 //    to +volume), tetrahedra() volumes add up to volume(), centroid inside the corners'
 //    bounding box, intersection_volume / intersection_moments and intersect() without
 //    statistics, and the supermesh's one-to-many path (src/kernel/one_to_many.hpp), give the same bits
-//    as intersect() with them, volume never negative or NaN, stats.inconsistencies == 0.
+//    as intersect() with them, volume never negative or NaN, stats.inconsistencies == stats.retries
+//    (an attempt whose labels did not close is an inconsistency, redone with the other reference).
 //
 // "Relative" means relative to min(|U|, |V|) (max for slivers and tiny-in-big), as in
 // test_kernel_vs_exact. A failure prints the pair with 17 digits and the stats.
@@ -410,7 +411,8 @@ void run_family(const char* name) {
       worst.orient_dev = std::max(worst.orient_dev, m.orient_dev);
       worst.tets_dev = std::max(worst.tets_dev, m.tets_dev);
       worst.centroid_out = std::max(worst.centroid_out, m.centroid_out);
-      if (st.inconsistencies != 0) what += (what.empty() ? "" : "; ") + std::string("stats.inconsistencies != 0");
+      if (st.inconsistencies != st.retries)
+        what += (what.empty() ? "" : "; ") + std::string("stats.inconsistencies != stats.retries (a contradiction, or labels that closed with neither reference)");
       const double vf = intersection_volume(A, B);
       const Moments mo = intersection_moments(A, B);
       const double v = P.volume();
@@ -566,7 +568,9 @@ void run_family(const char* name) {
   ::testing::Test::RecordProperty("failures", fails.count);
   EXPECT_EQ(fails.count, 0) << fam.name << ": " << fails.count << " failed checks (the first "
                             << kMaxReported << " of each kind shown)";
-  EXPECT_EQ(total.inconsistencies, 0);
+  // Each retry follows one attempt whose labels did not close (counted as an inconsistency);
+  // nothing else may be inconsistent.
+  EXPECT_EQ(total.inconsistencies, total.retries);
 }
 
 TEST(KernelProperties, Random) { run_family("Random"); }

@@ -9,7 +9,8 @@
 //    kResolution)
 //    implies a non-empty polyhedron of positive volume; exact = 0 implies a volume <= 1e-15 norm;
 //    touching from outside through a shared face gives exactly 0;
-//  - stats.inconsistencies == 0 on every call; volume never negative or NaN;
+//  - stats.inconsistencies == stats.retries on every call (the only inconsistency allowed is a
+//    first attempt whose labels did not close, redone with the other reference); volume never negative or NaN;
 //  - the reference itself is cross-checked where the answer is known by construction
 //    (identical tetrahedra: |U|; a tiny tetrahedron strictly inside a big one: |tiny|;
 //    touching from outside: 0).
@@ -96,7 +97,7 @@ void run_family(const char* name) {
     if (!(v >= 0.0) || !(vfast >= 0.0)) fail("negative or NaN volume");
     if (!(err <= kTol)) fail("intersect() error > 1e-12", fmt(err));
     if (!(err_fast <= kTol)) fail("intersection_volume() error > 1e-12", fmt(err_fast));
-    if (st.inconsistencies != 0) fail("stats.inconsistencies != 0");
+    if (st.inconsistencies != st.retries) fail("stats.inconsistencies != stats.retries (a contradiction, or labels that closed with neither reference)");
     // No vanishing above the resolution of the arithmetic (see kResolution).
     const bool real = exd > kResolution * std::max(volU, volV);
     if (real && P.empty()) fail("vanished: exact > 1e-14 max(|U|,|V|) but the polyhedron is empty");
@@ -148,7 +149,9 @@ void run_family(const char* name) {
   EXPECT_EQ(failures, 0) << fam.name << ": " << failures << " of " << cases.size()
                          << " pairs failed (the first " << kMaxReported
                          << " of each kind of failed check shown)";
-  EXPECT_EQ(total.inconsistencies, 0);
+  // Each retry follows one attempt whose labels did not close (counted as an inconsistency);
+  // nothing else may be inconsistent.
+  EXPECT_EQ(total.inconsistencies, total.retries);
 }
 
 // The counts: at least 10^4 random and 10^4 degenerate pairs.

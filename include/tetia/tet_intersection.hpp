@@ -33,14 +33,21 @@ struct IntersectionStats {
   std::int64_t face_inherited = 0;      ///< from either parent pair
   std::int64_t face_paired = 0;         ///< Corollary 1
   std::int64_t face_computed = 0;       ///< eq. (5), direct
-  std::int64_t nonconvex_repairs = 0;   ///< proof of Theorem 6, four intersections on a line
+  std::int64_t nonconvex_lines = 0;     ///< lines of Y meeting the boundary of X in four points
+                                        ///< (Fig. 6, the non-convex case of Theorem 6's proof):
+                                        ///< detected, not repaired by the paper's rule; the
+                                        ///< labels then do not close and the other reference or
+                                        ///< the exact last resort decides (see solve_with)
   // Coordinates actually evaluated for corners that lie on Y (eq. 2 / eq. 5), and clamps.
   std::int64_t corner_coordinates = 0;
   std::int64_t guardrail_clamps = 0;    ///< Section 4.1.1
   std::int64_t reference_swaps = 0;     ///< U was better conditioned and became the reference
-  std::int64_t inconsistencies = 0;     ///< sign or label contradictions left in the result
+  std::int64_t inconsistencies = 0;     ///< kernel runs whose signs contradicted each other
+                                        ///< or whose labels did not close up (each attempt)
   std::int64_t retries = 0;             ///< first attempts whose labels did not close up,
-                                        ///< redone with the other reference (see solve())
+                                        ///< redone with the other reference (see solve_with)
+  std::int64_t rescaled = 0;            ///< inputs scaled by a power of two (extreme sizes)
+  std::int64_t exact_fallbacks = 0;     ///< results computed exactly (the last resort)
   std::int64_t calls = 0;
 
   IntersectionStats& operator+=(const IntersectionStats& o);

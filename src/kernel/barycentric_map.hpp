@@ -47,6 +47,7 @@ struct BarycentricMap {
   alignas(16) double nx[4], ny[4], nz[4];  // normal n_k
   alignas(16) double px[4], py[4], pz[4];  // the terms of the normal in absolute value, for the permanent
   alignas(16) double scale[4];  // +-1 / det6 with the sign that makes coordinate k of vertex k positive
+  alignas(16) double tiny[2];   // 2^-340 |det6|: a |det| below it is a coordinate below 2^-340
 
   static constexpr double kErrBound = (7.0 + 56.0 * 0x1p-53) * 0x1p-53;
 
@@ -89,6 +90,7 @@ struct BarycentricMap {
     const __m128d sc = _mm_set_pd(inv, -inv);  // scale[k] = (k % 2 == 0) ? -inv : inv
     _mm_store_pd(scale, sc);
     _mm_store_pd(scale + 2, sc);
+    tiny[0] = tiny[1] = 0x1p-340 / std::abs(inv);
 #else
     for (int k = 0; k < 4; ++k) {
       vx[k] = r[k].x, vy[k] = r[k].y, vz[k] = r[k].z;
@@ -103,9 +105,15 @@ struct BarycentricMap {
       // (r_k - f0) . n_k = orient3d(f0, f1, f2, r_k) = (-1)^(k+1) det6.
       scale[k] = (k % 2 == 0) ? -inv : inv;
     }
+    tiny[0] = tiny[1] = 0x1p-340 / std::abs(inv);
 #endif
   }
 
+  // A coordinate below 2^-340 in magnitude is set to 0 as well: the kernel multiplies up to three
+  // coordinates (eq. 5's numerator), whose products must not underflow (solve_with accepts only
+  // tetrahedra whose sizes are within 2^250 of each other, so that this moves a vertex by at
+  // most 2^-90 of the smaller one).
+  //
   // Coordinate k: with w = u - a_k, det = w . n_k (evaluated as (w.x n.x + w.y n.y) + w.z n.z)
   // and the permanent |w.x| p.x + |w.y| p.y + |w.z| p.z, det * scale_k if |det| exceeds
   // kErrBound times the permanent, else exactly 0. Then u equal to vertex k (the last such k)
@@ -124,7 +132,7 @@ struct BarycentricMap {
           _mm_add_pd(_mm_add_pd(_mm_mul_pd(_mm_andnot_pd(sign, wx), _mm_load_pd(px + h)),
                                 _mm_mul_pd(_mm_andnot_pd(sign, wy), _mm_load_pd(py + h))),
                      _mm_mul_pd(_mm_andnot_pd(sign, wz), _mm_load_pd(pz + h)));
-      const __m128d keep = _mm_cmpgt_pd(_mm_andnot_pd(sign, det), _mm_mul_pd(bound, perm));
+      const __m128d keep = _mm_cmpgt_pd(_mm_andnot_pd(sign, det), _mm_max_pd(_mm_mul_pd(bound, perm), _mm_load_pd(tiny)));
       _mm_storeu_pd(out + h, _mm_and_pd(keep, _mm_mul_pd(det, _mm_load_pd(scale + h))));
       same |= unsigned(_mm_movemask_pd(_mm_cmpeq_pd(ux, _mm_load_pd(vx + h)))) << h;  // x only, first
     }
@@ -141,7 +149,7 @@ struct BarycentricMap {
       const double wx = u.x - ax[k], wy = u.y - ay[k], wz = u.z - az[k];
       const double det = wx * nx[k] + wy * ny[k] + wz * nz[k];
       const double permanent = std::abs(wx) * px[k] + std::abs(wy) * py[k] + std::abs(wz) * pz[k];
-      out[k] = std::abs(det) > kErrBound * permanent ? det * scale[k] : 0.0;
+      out[k] = std::abs(det) > std::max(kErrBound * permanent, tiny[0]) ? det * scale[k] : 0.0;
       same |= unsigned(u.x == vx[k] && u.y == vy[k] && u.z == vz[k]) << k;
     }
 #endif

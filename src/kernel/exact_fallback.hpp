@@ -16,6 +16,7 @@
 
 #include "tetia/geometry.hpp"
 #include "tetia/polygon.hpp"
+#include "tetia/polyhedron.hpp"
 
 namespace tetia::detail {
 
@@ -32,5 +33,29 @@ struct ExactPolygon {
 
 /// Finite input only (checked by the caller).
 void exact_polygon(const Triangle& A, const Triangle& B, ExactPolygon& out);
+
+/// U ∩ V with the labels of tetia::Polyhedron: every vertex of the exact polytope is a corner
+/// labelled with the planes it lies on (0-3 faces of U, 4-7 faces of V, face k opposite vertex
+/// k), each facet a cycle counter-clockwise seen from outside, barycentric coordinates in V
+/// exactly 0 on V's planes of the labels. A face of U and a face of V in one plane with one
+/// orientation make one facet, labelled with the lower plane. `simple`: every corner lies on
+/// exactly three of the (remaining) planes, as for a polyhedron of the double kernel; where a
+/// degenerate intersection has a corner on more (the exact polytope is not simple), it carries
+/// its three lowest labels and the facets are still the exact ones.
+struct ExactPolyhedron {
+  int num_corners = 0;
+  int num_facets = 0;
+  bool simple = true;
+  Vec3 point[Polyhedron::max_corners];
+  double bary[Polyhedron::max_corners][4];
+  std::uint8_t labels[Polyhedron::max_corners][3];
+  std::uint8_t facet_label[Polyhedron::max_facets];
+  std::uint8_t facet_begin[Polyhedron::max_facets + 1];
+  std::uint8_t facet_index[Polyhedron::max_facet_indices];
+  Moments moments;
+};
+
+/// Finite input only (checked by the caller).
+void exact_polyhedron(const Tet& U, const Tet& V, ExactPolyhedron& out);
 
 }  // namespace tetia::detail

@@ -60,7 +60,9 @@ inline int grow(double* e, int n, double x) {
 
 }  // namespace exact_sign_impl
 
-inline int orient2d_sign(double ax, double ay, double bx, double by, double cx, double cy) {
+// The expansion of det[b - a, c - a] (up to 32 components, increasing magnitude); returns its
+// length, or -1 where the conditions of orient2d_sign do not hold.
+inline int orient2d_expansion(double ax, double ay, double bx, double by, double cx, double cy, double (&e)[32]) {
   using namespace exact_sign_impl;
   double h[4], l[4];  // exact differences: bx - ax, cy - ay, by - ay, cx - ax
   two_diff(bx, ax, h[0], l[0]);
@@ -68,9 +70,8 @@ inline int orient2d_sign(double ax, double ay, double bx, double by, double cx, 
   two_diff(by, ay, h[2], l[2]);
   two_diff(cx, ax, h[3], l[3]);
   for (int k = 0; k < 4; ++k)
-    if (!(std::abs(h[k]) < 0x1p496)) return 2;  // overflow ahead (or not finite)
+    if (!(std::abs(h[k]) < 0x1p496)) return -1;  // overflow ahead (or not finite)
   // det = (h0 + l0)(h1 + l1) - (h2 + l2)(h3 + l3): eight exact products of two doubles each.
-  double e[32];
   int n = 0;
   const double u[2] = {h[0], l[0]}, v[2] = {h[1], l[1]}, w[2] = {h[2], l[2]}, z[2] = {h[3], l[3]};
   for (int i = 0; i < 2; ++i)
@@ -80,15 +81,35 @@ inline int orient2d_sign(double ax, double ay, double bx, double by, double cx, 
       two_product(w[i], z[j], q, qerr);
       // Dekker's error term is exact only while the product stays normal (above 2^-969 leaves
       // room for the split's halves).
-      if ((p != 0.0 && std::abs(p) < 0x1p-969) || (q != 0.0 && std::abs(q) < 0x1p-969)) return 2;
+      if ((p != 0.0 && std::abs(p) < 0x1p-969) || (q != 0.0 && std::abs(q) < 0x1p-969)) return -1;
       n = grow(e, n, err);
       n = grow(e, n, p);
       n = grow(e, n, -qerr);
       n = grow(e, n, -q);
     }
+  return n;
+}
+
+inline int orient2d_sign(double ax, double ay, double bx, double by, double cx, double cy) {
+  double e[32];
+  const int n = orient2d_expansion(ax, ay, bx, by, cx, cy, e);
+  if (n < 0) return 2;
   // The expansion's components do not overlap and grow in magnitude: the last one's sign is
   // the sum's.
   return n == 0 ? 0 : (e[n - 1] > 0.0 ? 1 : -1);
+}
+
+// det[b - a, c - a] to within a few units in the last place, whatever the cancellation (the
+// expansion's components summed from the smallest: they do not overlap, so the sum's rounding
+// errors stay below the last component's ulp); false where orient2d_sign would return 2.
+inline bool orient2d_rounded(double ax, double ay, double bx, double by, double cx, double cy, double& value) {
+  double e[32];
+  const int n = orient2d_expansion(ax, ay, bx, by, cx, cy, e);
+  if (n < 0) return false;
+  double sum = 0.0;
+  for (int i = 0; i < n; ++i) sum += e[i];
+  value = sum;
+  return true;
 }
 
 }  // namespace tetia::detail

@@ -34,6 +34,7 @@ Conditioning shape_quality(const Tet& t) {
   c.inv_det6 = 1.0 / c.det6;
   c.det6_sq = c.det6 * c.det6;
   c.s_cubed = s * s * s;
+  c.s = s;
   return c;
 }
 #endif
@@ -82,11 +83,19 @@ void shape_qualities(const Tet& U, const Tet& V, Conditioning& cu, Conditioning&
   _mm_storeu_pd(s3d, s3);
   cu.quality = qq[0], cv.quality = qq[1], cu.det6 = dd[0], cv.det6 = dd[1], cu.inv_det6 = ii[0], cv.inv_det6 = ii[1];
   cu.det6_sq = d2d[0], cv.det6_sq = d2d[1], cu.s_cubed = s3d[0], cv.s_cubed = s3d[1];
+  double sd[2];
+  _mm_storeu_pd(sd, s);
+  cu.s = sd[0], cv.s = sd[1];
 #else
   cu = shape_quality(U);
   cv = shape_quality(V);
 #endif
 }
+
+// Below this shape quality (|det6| / s^(3/2)) the computed det6 of a tetrahedron is not certain
+// to be nonzero or to have the right sign: 2^-40, about 1e-12, a thousand times det6's error
+// bound relative to s^(3/2).
+constexpr double kFlatQuality = 0x1p-40;
 
 // The frame of the reference tetrahedron and X's barycentric coordinates in it.
 struct Frame {
@@ -94,17 +103,37 @@ struct Frame {
   const Tet* ref;  // V's role (mapped to Y)
   bool swapped;    // the caller's U is the reference
   double det6;     // det[r1 - r0, r2 - r0, r3 - r0]
+  double det6_sub;  // the same for the other tetrahedron (solve_with's test of the result)
+  double size_squared_max;  // the larger sum of squared edge lengths (the rescaling's choice)
+  bool flat_to_rounding;    // U or V has a quality below kFlatQuality (frame_from)
   double C[4][4];
 };
+
+// frame_from's outcome. `rescale`: an edge length of U or V is outside [2^-250, 2^250] (the sum
+// of squared edge lengths outside [2^-500, 2^500]), or the two sizes are more than 2^250 apart,
+// where the map's products of three differences and their error bounds, or the kernel's
+// products of coordinates, would leave the normal range (or are not finite): the caller scales
+// the input by a power of two (rescale.hpp) and makes the frame again; sizes too far apart for
+// any scale then go to the exact last resort.
+enum class FrameStatus { ok, flat_or_not_finite, rescale };
 
 // make_frame once the conditioning of U and V is known; map_u: U's barycentric map if the
 // caller has it (OneToMany), used when U is the reference instead of building it again (the
 // same map: the same constructor on the same data).
-bool frame_from(const Tet& U, const Conditioning& cu, const BarycentricMap* map_u, const Tet& V,
-                const Conditioning& cv, Frame& fr, bool other_reference) {
+FrameStatus frame_from(const Tet& U, const Conditioning& cu, const BarycentricMap* map_u, const Tet& V,
+                       const Conditioning& cv, Frame& fr, bool other_reference) {
   const double qU = cu.quality, qV = cv.quality;
-  // Non-finite coordinates make a quality NaN or infinite; flat ones make it zero.
-  if (!(qU > 0.0) || !(qV > 0.0) || !(qU < INFINITY) || !(qV < INFINITY)) return false;
+  fr.size_squared_max = std::max(cu.s, cv.s);
+  if (!(cu.s >= 0x1p-500 && cv.s >= 0x1p-500 && cu.s <= 0x1p500 && cv.s <= 0x1p500 && cu.s <= 0x1p500 * cv.s &&
+        cv.s <= 0x1p500 * cu.s)) [[unlikely]]
+    return FrameStatus::rescale;
+  // Non-finite coordinates make a quality NaN or infinite; flat ones make it zero. Below
+  // kFlatQuality a tetrahedron is flat to the rounding of its own coordinates (det6's error
+  // bound is about 1e-15 s^(3/2)): a zero or wrongly signed det6 is possible. The kernel still
+  // runs (its polytope's labels are what a Polyhedron needs), but solve_with lets the exact last
+  // resort decide the numbers (exactly flat: empty).
+  if (!(qU > 0.0) || !(qV > 0.0) || !(qU < INFINITY) || !(qV < INFINITY)) return FrameStatus::flat_or_not_finite;
+  fr.flat_to_rounding = !(qU > kFlatQuality && qV > kFlatQuality);
   // With q^2 = det6^2 / s^3, qU > qV is det6U^2 sV^3 > det6V^2 sU^3: products only, so the
   // choice, and the map that waits for it, need not wait for the square roots and divisions of
   // the qualities. Where the products leave the normal range (edges beyond about 1e25 or below
@@ -125,6 +154,7 @@ bool frame_from(const Tet& U, const Conditioning& cu, const BarycentricMap* map_
   fr.sub = use_u ? &V : &U;
   fr.ref = use_u ? &U : &V;
   fr.det6 = use_u ? cu.det6 : cv.det6;
+  fr.det6_sub = use_u ? cv.det6 : cu.det6;
   if (use_u && map_u) {
     for (int i = 0; i < 4; ++i) (*map_u)((*fr.sub)[i], fr.C[i]);
   } else {
@@ -137,19 +167,19 @@ bool frame_from(const Tet& U, const Conditioning& cu, const BarycentricMap* map_
   __m128d probe = z;
   for (int i = 0; i < 4; ++i)
     probe = _mm_add_pd(probe, _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(fr.C[i]), z), _mm_mul_pd(_mm_loadu_pd(fr.C[i] + 2), z)));
-  return _mm_movemask_pd(_mm_cmpeq_pd(probe, z)) == 3;
+  return _mm_movemask_pd(_mm_cmpeq_pd(probe, z)) == 3 ? FrameStatus::ok : FrameStatus::flat_or_not_finite;
 #else
   double probe = 0.0;
   for (int i = 0; i < 4; ++i)
     for (int p = 0; p < 4; ++p) probe += fr.C[i][p] * 0.0;
-  return probe == 0.0;
+  return probe == 0.0 ? FrameStatus::ok : FrameStatus::flat_or_not_finite;
 #endif
 }
 
 // Picks the reference (the better-conditioned tetrahedron; ties broken by comparing the
 // coordinates, so that (U, V) and (V, U) always choose the same one) and computes X.
-// Returns false for flat or non-finite input: the intersection is then empty.
-bool make_frame(const Tet& U, const Tet& V, Frame& fr, bool other_reference = false) {
+// See FrameStatus for what it returns.
+FrameStatus make_frame(const Tet& U, const Tet& V, Frame& fr, bool other_reference = false) {
   Conditioning cu, cv;
   shape_qualities(U, V, cu, cv);
   return frame_from(U, cu, nullptr, V, cv, fr, other_reference);

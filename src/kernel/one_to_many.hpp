@@ -27,6 +27,7 @@ struct Conditioning {
   // qualities compare by products, without waiting for the square root and the division.
   double det6_sq = 0.0;
   double s_cubed = 0.0;
+  double s = 0.0;  // the sum of squared edge lengths (frame_from's range test)
 };
 
 /// The conditioning of t, computed as the kernel computes it for each pair.

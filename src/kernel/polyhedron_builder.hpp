@@ -18,6 +18,7 @@
 #include "moments.hpp"
 #include "orientation.hpp"
 #include "tetia/polyhedron.hpp"
+#include "exact_fallback.hpp"
 
 namespace tetia {
 
@@ -56,7 +57,18 @@ struct PolyhedronBuilder {
     return false;
   }
 
-  static bool fill(Polyhedron& P, const detail::Frame& fr, detail::KernelResult& res, bool check) {
+  // Equal barycentric coordinates on V's vertices whose planes (bit p: plane 4 + p) the corner
+  // is not on, 0 on those it is on: where no coordinates can be had (a reference or V flat to
+  // the rounding of its coordinates, whose map is not finite), a point the labels allow.
+  static detail::Quad admissible_midpoint(unsigned on_plane) {
+    double b[4];
+    const int free = 4 - std::popcount(on_plane & 0xFu);
+    for (int p = 0; p < 4; ++p) b[p] = ((on_plane >> p) & 1u) || free == 0 ? 0.0 : 1.0 / free;
+    return detail::load4(b);
+  }
+
+  // scale: the exponent the input was scaled by (solve_rescaled), undone here; 0 usually.
+  static bool fill(Polyhedron& P, const detail::Frame& fr, detail::KernelResult& res, bool check, int scale) {
     using detail::RawCorner;
     std::int8_t dir[8] = {1, 1, 1, 1, 1, 1, 1, 1};
     if (res.num_facets > 0) {
@@ -115,8 +127,12 @@ struct PolyhedronBuilder {
       if (!swapped) {
         // The kernel's coordinates sum to 1 up to the conditioning of the map; the reported
         // ones are scaled to sum to 1 (zeros stay exact zeros): they are P1 basis values.
-        const double inv = 1.0 / (rc.bary[0] + rc.bary[1] + rc.bary[2] + rc.bary[3]);
-        bary = detail::mul4(detail::load4(rc.bary), inv);
+        const double total = rc.bary[0] + rc.bary[1] + rc.bary[2] + rc.bary[3];
+        if (total > 0.0 && total < INFINITY) [[likely]] {
+          bary = detail::mul4(detail::load4(rc.bary), 1.0 / total);
+        } else {  // nothing usable (a frame flat to rounding): the admissible midpoint
+          bary = admissible_midpoint((1u << rc.labels[0] | 1u << rc.labels[1] | 1u << rc.labels[2]) >> 4);
+        }
       } else {
         // The reference was U: V's coordinates come from the point itself, with the coordinates
         // of V's planes the corner lies on set to exactly zero, then clamped into the simplex
@@ -152,7 +168,7 @@ struct PolyhedronBuilder {
           sum += b[p];
         }
 #endif
-        bary = sum > 0.0 ? detail::div4(detail::load4(b), sum) : detail::set4(0.25);
+        bary = sum > 0.0 && sum < INFINITY ? detail::div4(detail::load4(b), sum) : admissible_midpoint(on_plane);
       }
       // Which of V's barycentric coordinates are exactly zero, for every plane of the corner.
       detail::store4(out.bary.data(), bary);
@@ -200,8 +216,52 @@ struct PolyhedronBuilder {
           P.facet_index_[static_cast<std::size_t>(k)] = res.facet_index[flip ? b + e - 1 - k : k];
       }
     }
-    P.moments_ = detail::original_moments(fr, res);
+    P.moments_ = res.ref_volume == 0.0 ? Moments{} : detail::original_moments(fr, res);  // as intersection_moments
+    if (scale != 0) [[unlikely]] {
+      for (int c = 0; c < P.num_corners_; ++c) {
+        Vec3& q = P.corners_[static_cast<std::size_t>(c)].point;
+        q = {std::ldexp(q.x, -scale), std::ldexp(q.y, -scale), std::ldexp(q.z, -scale)};
+      }
+      P.moments_ = unscaled(P.moments_, scale);
+    }
     return true;
+  }
+
+  static void set_moments(Polyhedron& P, const Moments& m) { P.moments_ = m; }
+
+  // Moments of the input scaled by 2^scale, brought back (one correctly rounded ldexp each).
+  static Moments unscaled(const Moments& m, int scale) {
+    return {std::ldexp(m.volume, -3 * scale),
+            {std::ldexp(m.first.x, -4 * scale), std::ldexp(m.first.y, -4 * scale), std::ldexp(m.first.z, -4 * scale)}};
+  }
+
+  // The exact last resort's polyhedron (exact_fallback.hpp), already in the caller's numbering.
+  static void fill_exact(Polyhedron& P, const detail::ExactPolyhedron& x) {
+    P.num_corners_ = x.num_corners;
+    P.num_facets_ = x.num_facets;
+    for (int c = 0; c < x.num_corners; ++c) {
+      Corner& out = P.corners_[static_cast<std::size_t>(c)];
+      out.point = x.point[c];
+      out.bary = {x.bary[c][0], x.bary[c][1], x.bary[c][2], x.bary[c][3]};
+      out.labels = {x.labels[c][0], x.labels[c][1], x.labels[c][2]};
+    }
+    P.facet_begin_[0] = 0;
+    P.touched_v_ = 0;
+    for (int f = 0; f < x.num_facets; ++f) {
+      const unsigned label = x.facet_label[f];
+      P.facet_label_[static_cast<std::size_t>(f)] = static_cast<std::uint8_t>(label);
+      P.facet_begin_[static_cast<std::size_t>(f) + 1] = x.facet_begin[f + 1];
+      // A facet of V, or a facet of U whose corners all have V's coordinate k exactly 0.
+      unsigned zero = 0xFu;
+      for (int k = x.facet_begin[f]; k < x.facet_begin[f + 1]; ++k) {
+        const int c = x.facet_index[k];
+        P.facet_index_[static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(c);
+        for (int p = 0; p < 4; ++p)
+          if (x.bary[c][p] != 0.0) zero &= ~(1u << p);
+      }
+      P.touched_v_ |= label >= 4 ? 1u << (label - 4) : zero;
+    }
+    P.moments_ = x.moments;
   }
 };
 

@@ -1,6 +1,8 @@
 // src/kernel/solve.hpp -- one pair from start to end: the quick exits (disjoint bounding boxes,
 // lines 2-6's empty cases), the frame (frame.hpp), the kernel (Kernel::run, algorithm2.hpp),
-// the facets (facets.hpp), and the one repair: the other tetrahedron as the reference.
+// the facets (facets.hpp), the one repair (the other tetrahedron as the reference), the tests
+// that certify the result, and the rescaling of extreme sizes; what is not certified goes to
+// the exact last resort (the entry points, tet_intersection.cpp).
 // Part of the kernel's one translation unit: included by src/kernel/tet_intersection.cpp only
 // (what it defines in the anonymous namespace is that file's own).
 #pragma once
@@ -14,6 +16,7 @@
 #include "frame.hpp"
 #include "kernel.hpp"
 #include "kernel_result.hpp"
+#include "rescale.hpp"
 #include "tetia/tet_intersection.hpp"
 
 namespace tetia::detail {
@@ -80,26 +83,57 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
   return true;
 }
 
-// The kernel with its one repair: rounding in a degenerate configuration (an edge of one
-// tetrahedron lying in a face of the other, say) can leave sign decisions that Theorem 6's
-// relations accept but that no polytope realizes; the labels then do not close up. The other
-// tetrahedron is then taken as the reference, which rounds differently and in the tests has
-// always given a closed polytope. Only if that fails too is the result empty (and counted).
+// How a pair's result was obtained (solve_with, solve).
+enum class Outcome {
+  empty,    // no intersection (disjoint, touching, flat; or non-finite input)
+  kernel,   // the double kernel's result, in the frame of the (possibly scaled) input
+  exact,    // not certified: the exact last resort decides (exact_fallback.hpp), for the
+            // caller's input as given (non-finite input: empty)
+  rescale,  // sizes outside the kernel's range (FrameStatus::rescale): scale and solve again
+};
+
+// The kernel with its one repair and the tests that certify its result. Rounding in a
+// degenerate configuration (an edge of one tetrahedron lying in a face of the other, say) can
+// leave sign decisions that Theorem 6's relations accept but that no polytope realizes; the
+// labels then do not close up. The other tetrahedron is then taken as the reference, which
+// rounds differently. If that fails too, the exact last resort decides: a real intersection
+// never vanishes. It also decides where the frame cannot be made in doubles for finite input
+// (a flat frame, or coordinates that are not finite), where a tetrahedron is flat to the
+// rounding of its own coordinates (Frame::flat_to_rounding), and where the volume is not finite or
+// exceeds the smaller tetrahedron's by more than 1e-12 of it (|det6| / 6 of each, as computed
+// for the choice of the reference): the kernel's error is about eps times the size ratio, and
+// where that shows it is not accepted. Every test is on numbers all entry points compute alike
+// (the bitwise contract). Counted with statistics: every attempt whose labels did not close or
+// whose signs contradicted each other as an inconsistency, every second attempt as a retry.
 // make_frame(fr, other_reference) prepares the frame (see make_frame).
 template <bool kMoments, bool kFull, class MakeFrame>
-bool solve_with(const MakeFrame& make_frame, Frame& fr, KernelResult& res, IntersectionStats* stats) {
-  if (!make_frame(fr, false)) {
+Outcome solve_with(const MakeFrame& make_frame, Frame& fr, KernelResult& res, IntersectionStats* stats) {
+  const FrameStatus status = make_frame(fr, false);
+  if (status != FrameStatus::ok) [[unlikely]] {
     res.set_empty();
-    return false;
+    return status == FrameStatus::rescale ? Outcome::rescale : Outcome::exact;
   }
   if (stats && fr.swapped) ++stats->reference_swaps;
   bool ok = run_kernel<kMoments, kFull>(fr.C, res, stats);
-  if (!ok) {
-    if (stats) ++stats->retries;
-    ok = make_frame(fr, true) && run_kernel<kMoments, kFull>(fr.C, res, stats);
+  if (!ok) [[unlikely]] {
+    if (stats) {
+      ++stats->inconsistencies;
+      ++stats->retries;
+    }
+    ok = make_frame(fr, true) == FrameStatus::ok && run_kernel<kMoments, kFull>(fr.C, res, stats);
+    if (!ok) {
+      if (stats) ++stats->inconsistencies;
+      res.set_empty();
+      return Outcome::exact;
+    }
   }
-  if (stats && (!ok || res.contradiction)) ++stats->inconsistencies;
-  return ok;
+  if (stats && res.contradiction) ++stats->inconsistencies;
+  if (fr.flat_to_rounding) [[unlikely]] return Outcome::exact;  // the kernel's polytope kept in res
+  if (res.num_corners == 0) return Outcome::empty;
+  const double volume = res.ref_volume * std::abs(fr.det6);
+  const double smaller = std::min(std::abs(fr.det6), std::abs(fr.det6_sub)) * (1.0 / 6.0);
+  if (!(volume <= smaller * (1.0 + 1e-12)) || !(volume < INFINITY)) [[unlikely]] return Outcome::exact;
+  return Outcome::kernel;
 }
 
 // Whether the bounding boxes of U and V are disjoint: some axis has max U < min V or
@@ -136,16 +170,54 @@ bool boxes_disjoint(const Tet& U, const Tet& V) {
 #endif
 }
 
-// The pairwise entry points' kernel call: a quick exit for disjoint bounding boxes, then
-// solve_with. Returns false when the intersection is empty for lack of a frame (see solve_with).
+bool finite(const Tet& t) {
+  for (const Vec3& p : t)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return false;
+  return true;
+}
+
+// solve() for the input scaled by a power of two (rescale.hpp): the larger tetrahedron's size
+// brought to about 1, into `scaled`, which the frame then points into; `scale` receives the
+// exponent k (volumes scale back by 2^(-3k), first moments by 2^(-4k), points by 2^(-k)). The
+// exact last resort where the scaling is not exact, the sizes are still out of range (more
+// than 2^500 apart), or the volume scaled back would be rounded a second time (subnormal, or
+// beyond the largest double). Out of line: the usual input never comes here.
 template <bool kMoments, bool kFull>
-bool solve(const Tet& U, const Tet& V, Frame& fr, KernelResult& res, IntersectionStats* stats) {
+[[gnu::noinline]] Outcome solve_rescaled(const Tet& U, const Tet& V, Frame& fr, KernelResult& res, Tet (&scaled)[2],
+                                         int& scale, IntersectionStats* stats) {
+  if (!finite(U) || !finite(V)) return Outcome::empty;
+  if (stats) ++stats->rescaled;
+  scale = -(std::ilogb(fr.size_squared_max) / 2);
+  static_assert(sizeof(Tet) == 12 * sizeof(double));
+  if (!scaled_exactly(&U[0].x, 12, scale, &scaled[0][0].x) || !scaled_exactly(&V[0].x, 12, scale, &scaled[1][0].x))
+    return Outcome::exact;
+  const Tet& Us = scaled[0];
+  const Tet& Vs = scaled[1];
+  const Outcome o =
+      solve_with<kMoments, kFull>([&](Frame& f, bool other) { return make_frame(Us, Vs, f, other); }, fr, res, stats);
+  if (o == Outcome::rescale) return Outcome::exact;
+  if (o == Outcome::kernel) {
+    const double back = std::ldexp(res.ref_volume * std::abs(fr.det6), -3 * scale);
+    if (!(back >= 0x1p-1022) || !(back < INFINITY)) return Outcome::exact;
+  }
+  return o;
+}
+
+// The pairwise entry points' kernel call: a quick exit for disjoint bounding boxes, then
+// solve_with, and solve_rescaled where the sizes ask for it (`scaled`, `scale`: see there;
+// scale is 0 otherwise).
+template <bool kMoments, bool kFull>
+Outcome solve(const Tet& U, const Tet& V, Frame& fr, KernelResult& res, Tet (&scaled)[2], int& scale,
+              IntersectionStats* stats) {
+  scale = 0;
   if (boxes_disjoint(U, V)) {
     res.set_empty();
-    return false;
+    return Outcome::empty;
   }
-  return solve_with<kMoments, kFull>([&](Frame& f, bool other) { return make_frame(U, V, f, other); }, fr, res,
-                                     stats);
+  const Outcome o =
+      solve_with<kMoments, kFull>([&](Frame& f, bool other) { return make_frame(U, V, f, other); }, fr, res, stats);
+  if (o != Outcome::rescale) [[likely]] return o;
+  return solve_rescaled<kMoments, kFull>(U, V, fr, res, scaled, scale, stats);
 }
 
 }  // namespace

@@ -72,12 +72,14 @@ IntersectionStats& IntersectionStats::operator+=(const IntersectionStats& o) {
   face_inherited += o.face_inherited;
   face_paired += o.face_paired;
   face_computed += o.face_computed;
-  nonconvex_repairs += o.nonconvex_repairs;
+  nonconvex_lines += o.nonconvex_lines;
   corner_coordinates += o.corner_coordinates;
   guardrail_clamps += o.guardrail_clamps;
   reference_swaps += o.reference_swaps;
   inconsistencies += o.inconsistencies;
   retries += o.retries;
+  rescaled += o.rescaled;
+  exact_fallbacks += o.exact_fallbacks;
   calls += o.calls;
   return *this;
 }
@@ -94,11 +96,25 @@ void conditioning(const Tet& a, const Tet& b, Conditioning& ca, Conditioning& cb
 
 OneToMany::OneToMany(const Tet& s) : s_(s), cs_(conditioning(s)), map_(s, cs_.inv_det6) {}
 
+// The exact last resort's moments (finite input; non-finite is empty).
+Moments exact_moments(const Tet& U, const Tet& V) {
+  if (!finite(U) || !finite(V)) return {};
+  ExactPolyhedron x;
+  exact_polyhedron(U, V, x);
+  return x.moments;
+}
+
 Moments OneToMany::moments(const Tet& t, const Conditioning& ct, unsigned* t_faces) const {
   Frame fr;
   KernelResult res;
   const auto make = [&](Frame& f, bool other) { return frame_from(s_, cs_, &map_, t, ct, f, other); };
-  const bool ok = solve_with<true, false>(make, fr, res, nullptr);
+  const Outcome outcome = solve_with<true, false>(make, fr, res, nullptr);
+  if (outcome == Outcome::rescale || outcome == Outcome::exact) [[unlikely]] {
+    // As the pairwise entry point, bit for bit (it scales, or computes exactly, likewise).
+    if (t_faces) *t_faces = 0xFu;
+    return intersection_moments(s_, t);
+  }
+  const bool ok = outcome == Outcome::kernel;
   if (t_faces) {
     // The faces of t on which the polytope has a facet: labels 4-7 (planes of Y) when t was the
     // reference, 0-3 (faces of X) when s was. Where int(s) crosses the interior of t's face k,
@@ -113,7 +129,7 @@ Moments OneToMany::moments(const Tet& t, const Conditioning& ct, unsigned* t_fac
       *t_faces = faces | kPlanesTested;
     }
   }
-  if (!ok) return {};
+  if (!ok || res.ref_volume == 0.0) return {};  // +0 moments, as intersection_moments
   return original_moments(fr, res);
 }
 
@@ -140,29 +156,80 @@ void trace_kernel(const double (&C)[4][4], KernelTrace& t, IntersectionStats* st
 }  // namespace detail
 
 Polyhedron intersect(const Tet& U, const Tet& V, IntersectionStats* stats) {
+  using detail::Outcome;
   Polyhedron P;  // one object on every path, so that it is constructed in place (no copy)
   if (stats) ++stats->calls;
   detail::Frame fr;
   detail::KernelResult res;
-  if (detail::solve<true, true>(U, V, fr, res, stats) && !PolyhedronBuilder::fill(P, fr, res, stats != nullptr)) {
+  Tet scaled[2];
+  int scale = 0;
+  const Outcome outcome = detail::solve<true, true>(U, V, fr, res, scaled, scale, stats);
+  if (outcome == Outcome::empty) return P;
+  if (outcome == Outcome::kernel) [[likely]] {
+    if (PolyhedronBuilder::fill(P, fr, res, stats != nullptr, scale)) return P;
+    // The facets could not be oriented consistently (labels and geometry disagree): the exact
+    // polytope's corners and facets, with the kernel's moments, which the other entry points
+    // return (and which passed solve_with's tests).
     if (stats) ++stats->inconsistencies;
-    PolyhedronBuilder::clear(P);
+    const Moments m = scale == 0 ? detail::original_moments(fr, res)
+                                 : PolyhedronBuilder::unscaled(detail::original_moments(fr, res), scale);
+    detail::ExactPolyhedron x;
+    detail::exact_polyhedron(U, V, x);
+    PolyhedronBuilder::fill_exact(P, x);
+    PolyhedronBuilder::set_moments(P, m);
+    if (stats) ++stats->exact_fallbacks;
+    return P;
   }
+  if (!detail::finite(U) || !detail::finite(V)) return P;
+  if (stats) ++stats->exact_fallbacks;
+  detail::ExactPolyhedron x;
+  detail::exact_polyhedron(U, V, x);
+  // Where the exact polytope is not simple (a degenerate intersection: a corner on four planes)
+  // its corners cannot carry the three labels of a simple polytope; the kernel's polytope, if it
+  // closed (the volume test is what rejected it), has them, with coincident corners: its
+  // corners and facets then, with the exact moments.
+  if (!x.simple && res.num_corners > 0 && PolyhedronBuilder::fill(P, fr, res, stats != nullptr, scale)) {
+    PolyhedronBuilder::set_moments(P, x.moments);
+    return P;
+  }
+  PolyhedronBuilder::fill_exact(P, x);
   return P;
 }
 
 double intersection_volume(const Tet& U, const Tet& V) {
+  using detail::Outcome;
   detail::Frame fr;
   detail::KernelResult res;
-  if (!detail::solve<false, false>(U, V, fr, res, nullptr)) return 0.0;
-  return res.ref_volume * std::abs(fr.det6);
+  Tet scaled[2];
+  int scale = 0;
+  switch (detail::solve<false, false>(U, V, fr, res, scaled, scale, nullptr)) {
+    case Outcome::empty:
+      return 0.0;
+    case Outcome::kernel: {
+      const double v = res.ref_volume * std::abs(fr.det6);
+      return scale == 0 ? v : std::ldexp(v, -3 * scale);
+    }
+    default:
+      return detail::exact_moments(U, V).volume;
+  }
 }
 
 Moments intersection_moments(const Tet& U, const Tet& V) {
+  using detail::Outcome;
   detail::Frame fr;
   detail::KernelResult res;
-  if (!detail::solve<true, false>(U, V, fr, res, nullptr)) return {};
-  return detail::original_moments(fr, res);
+  Tet scaled[2];
+  int scale = 0;
+  switch (detail::solve<true, false>(U, V, fr, res, scaled, scale, nullptr)) {
+    case Outcome::empty:
+      return {};
+    case Outcome::kernel:
+      if (res.ref_volume == 0.0) return {};  // +0 moments however the kernel summed zeros
+      return scale == 0 ? detail::original_moments(fr, res)
+                        : PolyhedronBuilder::unscaled(detail::original_moments(fr, res), scale);
+    default:
+      return detail::exact_moments(U, V);
+  }
 }
 
 }  // namespace tetia

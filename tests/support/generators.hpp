@@ -58,7 +58,7 @@ inline std::string fmt_stats(const IntersectionStats& s) {
   o << "edge_inherited=" << s.edge_inherited << " edge_paired=" << s.edge_paired
     << " edge_straight_line=" << s.edge_straight_line << " edge_computed=" << s.edge_computed
     << " face_inherited=" << s.face_inherited << " face_paired=" << s.face_paired
-    << " face_computed=" << s.face_computed << " nonconvex_repairs=" << s.nonconvex_repairs
+    << " face_computed=" << s.face_computed << " nonconvex_lines=" << s.nonconvex_lines
     << " corner_coordinates=" << s.corner_coordinates << " guardrail_clamps=" << s.guardrail_clamps
     << " reference_swaps=" << s.reference_swaps << " inconsistencies=" << s.inconsistencies
     << " calls=" << s.calls;
