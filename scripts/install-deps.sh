@@ -10,6 +10,7 @@ packages=(
   g++               # C++20 compiler (the default one; tested in CI)
   clang             # C++20 compiler the scripts build with: a faster kernel (docs/benchmarks.md)
   libomp-dev        # OpenMP runtime for clang
+  libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes for clang (fuzz/, scripts/fuzz.sh)
   cmake             # >= 3.25
   ninja-build
   libgtest-dev      # GoogleTest (tests)

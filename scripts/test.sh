@@ -6,7 +6,9 @@
 #  3. build-asan/  RelWithDebInfo with AddressSanitizer + UndefinedBehaviorSanitizer (g++);
 # then 4. build-scalar/: the 3D kernel's tests once more with its portable scalar code (the
 # kernel uses SSE2 where the compiler has it, as on every x86-64; -U__SSE2__ takes the other
-# branch, so both are tested).
+# branch, so both are tested), and 5. build-fuzz/: the kernels' libFuzzer targets (clang++,
+# ASan + UBSan), each run for TETIA_FUZZ_SECONDS seconds (default 20) from its seed corpus
+# (scripts/fuzz.sh); a violation of the kernels' contract fails the run.
 # Stops at the first failure. TETIA_JOBS sets the parallelism (default 2); TETIA_CXX the
 # compiler of build/ and build-scalar/ (default clang++).
 set -euo pipefail
@@ -54,5 +56,8 @@ cmake --build build-scalar -j"$jobs" --target "${kernel_tests[@]}"
 
 step "kernel tests (build-scalar)"
 for t in "${kernel_tests[@]}"; do ./build-scalar/tests/"$t" --gtest_brief=1; done
+
+step "fuzz (clang++, libFuzzer + ASan/UBSan, ${TETIA_FUZZ_SECONDS:-20} s per kernel)"
+TETIA_FUZZ_SECONDS="${TETIA_FUZZ_SECONDS:-20}" bash scripts/fuzz.sh
 
 step "all tests passed"

@@ -1,0 +1,7 @@
+// fuzz_tri_kernel -- libFuzzer target for the 2D kernel's contract (fuzz/kernel_contract.hpp)
+// on the pairs of triangles of fuzz/decode.hpp. See fuzz/README.md.
+#include "fuzz_target.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  return tetia::fuzz::fuzz_one_input<tetia::fuzz::kTriCoords>(data, size);
+}

@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# Fuzzes the kernels' contract (fuzz/kernel_contract.hpp) for a short fixed time: builds the
+# libFuzzer targets fuzz_tet_kernel and fuzz_tri_kernel (and fuzz_replay) in build-fuzz/ with
+# clang++, then runs each for TETIA_FUZZ_SECONDS seconds (default 30) on a temporary copy of
+# its seed corpus fuzz/corpus/<target>/, so the repository's corpus never grows. A violation of
+# the contract (or an ASan/UBSan report) stops that target; its input is kept in
+# build-fuzz/artifacts/ and printed as a text line (fuzz_replay --decode) ready for
+# fuzz/regressions/<target>/*.txt or `tetia pairs`. Exits non-zero on any finding.
+#
+# Environment: TETIA_FUZZ_SECONDS (per target), TETIA_JOBS (build parallelism, default 2),
+# TETIA_FUZZ_ARGS (extra libFuzzer flags, e.g. "-seed=1"), TETIA_FUZZ_IGNORE (kinds of violation
+# to let pass, e.g. "moments-overflow,vanished-overflow"; see fuzz/fuzz_target.hpp).
+set -euo pipefail
+export LC_ALL=C  # one collation for ls and comm below
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+seconds="${TETIA_FUZZ_SECONDS:-30}"
+jobs="${TETIA_JOBS:-2}"
+build=build-fuzz
+artifacts="$build/artifacts"
+targets=(fuzz_tet_kernel fuzz_tri_kernel)
+
+cmake -S . -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DTETIA_BUILD_FUZZERS=ON -DTETIA_BUILD_TESTS=OFF -DTETIA_BUILD_BENCH=OFF
+cmake --build "$build" -j"$jobs" --target "${targets[@]}" fuzz_replay
+
+mkdir -p "$artifacts"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+# The survey mode of fuzz/fuzz_target.hpp would let violations pass: not here.
+unset TETIA_FUZZ_LOG
+export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1}"
+
+status=0
+for target in "${targets[@]}"; do
+  dim=3
+  [[ $target == fuzz_tri_kernel ]] && dim=2
+  corpus="$work/$target"
+  mkdir -p "$corpus"
+  cp fuzz/corpus/"$target"/* "$corpus"/
+  printf '\n==> %s, %s s\n' "$target" "$seconds"
+  ls "$artifacts" > "$work/before"
+  # shellcheck disable=SC2086  # TETIA_FUZZ_ARGS is a list of flags
+  if ! "$build/$target" -max_total_time="$seconds" -max_len=256 -timeout=10 -print_final_stats=1 \
+      -artifact_prefix="$artifacts/$target-" ${TETIA_FUZZ_ARGS:-} "$corpus"; then
+    status=1
+  fi
+  # Every artifact this run wrote is a finding (contract violation, sanitizer report, timeout,
+  # out of memory): show each as a text line.
+  ls "$artifacts" > "$work/after"
+  while read -r found; do
+    status=1
+    printf '\n%s:\n' "$artifacts/$found"
+    "$build/fuzz_replay" --dim "$dim" --decode "$artifacts/$found" || true
+  done < <(comm -13 "$work/before" "$work/after")
+done
+
+if [[ $status -ne 0 ]]; then
+  printf '\nfuzz: findings (inputs in %s/)\n' "$artifacts"
+else
+  printf '\nfuzz: no findings\n'
+fi
+exit "$status"
