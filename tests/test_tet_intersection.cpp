@@ -534,3 +534,25 @@ TEST(KernelContract, SizeRatiosContainedAndCut) {
     }
   }
 }
+
+TEST(KernelContract, ContainedIsTheSmallerCellExactly) {
+  // A tetrahedron 2^-50 of the size of kRef strictly inside it (dyadic: every coordinate exact):
+  // the intersection is the small one, its volume |det6| / 6 from its own vertices, not the fan
+  // of its corners in kRef's frame (which resolves it only to eps of kRef). Before: 0 at ratios
+  // near 1e16, 1e-8 off at 1e6.
+  for (const int k : {10, 20, 30, 40, 50}) {
+    const double h = std::ldexp(1.0, -k);
+    const Vec3 c{0.25, 0.25, 0.125};
+    const Tet tiny{{c, c + Vec3{h, 0, 0}, c + Vec3{0, h, 0}, c + Vec3{0, 0, h}}};
+    const double exact_volume = exact::intersection_volume_double(kRef, tiny);
+    ASSERT_EQ(exact_volume, std::ldexp(1.0, -3 * k) / 6);
+    for (const auto& [A, B] : {std::pair{&kRef, &tiny}, std::pair{&tiny, &kRef}}) {
+      EXPECT_EQ(intersection_volume(*A, *B), exact_volume) << k;
+      EXPECT_EQ(intersect(*A, *B).volume(), exact_volume) << k;
+      const Vec3 centroid = intersection_moments(*A, *B).centroid();
+      EXPECT_NEAR(centroid.x, 0.25 + h / 4, 1e-16) << k;
+      EXPECT_NEAR(centroid.z, 0.125 + h / 4, 1e-16) << k;
+    }
+    expect_contract(kRef, tiny, 0.0, "2^-" + std::to_string(k) + " inside");
+  }
+}

@@ -41,6 +41,7 @@ struct KernelResult {
   u8 facet_index[Polyhedron::max_facet_indices];
   bool contradiction = false;              // a sign relation failed (checked with statistics)
   bool corner_apex = false;                // fans from corner 0 (build_facets' kCornerApex)
+  bool x_inside = false;                   // all four vertices of X inside Y: X n Y is X (run_kernel)
   double facet_volume6[8];                // signed fan volumes (x6) of the facets as stored
   double coordinate_scale = 1.0;          // largest |coordinate| of X's vertices
   double ref_volume = 0.0;                // volume in the reference frame (Y has volume 1/6)
@@ -53,6 +54,7 @@ struct KernelResult {
     facet_begin[0] = 0;
     ref_volume = 0.0;
     ref_first[0] = ref_first[1] = ref_first[2] = 0.0;
+    x_inside = false;
   }
 };
 

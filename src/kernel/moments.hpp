@@ -66,8 +66,22 @@ void reference_moments(KernelResult& r) {
   for (int c = 0; c < 3; ++c) r.ref_first[c] = m[c] / 24.0;
 }
 
+// The volume in original units: the reference frame's volume scaled by |det6|, except where X
+// lies inside Y, whose intersection is X itself: its own |det6| / 6 then, accurate relative to X
+// however much smaller X is (its corners, X's vertices, have coordinates in Y's frame that
+// resolve X only to eps times Y's size). Every entry point takes the volume from here.
+double original_volume(const Frame& fr, const KernelResult& res) {
+  return res.x_inside ? std::abs(fr.det6_sub) * (1.0 / 6.0) : res.ref_volume * std::abs(fr.det6);
+}
+
 Moments original_moments(const Frame& fr, const KernelResult& res) {
   Moments m;
+  if (res.x_inside) {  // X itself: volume and centroid from its vertices (original_volume)
+    const Tet& s = *fr.sub;
+    m.volume = original_volume(fr, res);
+    m.first = m.volume * (0.25 * (((s[0] + s[1]) + s[2]) + s[3]));
+    return m;
+  }
   const double scale = std::abs(fr.det6);
   m.volume = res.ref_volume * scale;
   const Tet& r = *fr.ref;

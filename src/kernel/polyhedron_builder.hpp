@@ -216,7 +216,7 @@ struct PolyhedronBuilder {
           P.facet_index_[static_cast<std::size_t>(k)] = res.facet_index[flip ? b + e - 1 - k : k];
       }
     }
-    P.moments_ = res.ref_volume == 0.0 ? Moments{} : detail::original_moments(fr, res);  // as intersection_moments
+    P.moments_ = detail::original_volume(fr, res) == 0.0 ? Moments{} : detail::original_moments(fr, res);  // as intersection_moments
     if (scale != 0) [[unlikely]] {
       for (int c = 0; c < P.num_corners_; ++c) {
         Vec3& q = P.corners_[static_cast<std::size_t>(c)].point;

@@ -16,6 +16,7 @@
 #include "frame.hpp"
 #include "kernel.hpp"
 #include "kernel_result.hpp"
+#include "moments.hpp"
 #include "rescale.hpp"
 #include "tetia/tet_intersection.hpp"
 
@@ -74,6 +75,9 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
     res.coordinate_scale = scale;
 #endif
   }
+  // X inside Y: its four vertices are the corners (algorithm2.hpp returns right after them).
+  res.x_inside = res.num_corners == 4 && res.corners[0].kind == kVertexOfX && res.corners[1].kind == kVertexOfX &&
+                 res.corners[2].kind == kVertexOfX && res.corners[3].kind == kVertexOfX;
   // Only a Polyhedron reads the facets and their fan volumes.
   const bool ok = build_facets<kMoments ? kFacetsMoments : kFacetsVolume, true, kFull>(res);
   if (!ok) {
@@ -130,7 +134,7 @@ Outcome solve_with(const MakeFrame& make_frame, Frame& fr, KernelResult& res, In
   if (stats && res.contradiction) ++stats->inconsistencies;
   if (fr.flat_to_rounding) [[unlikely]] return Outcome::exact;  // the kernel's polytope kept in res
   if (res.num_corners == 0) return Outcome::empty;
-  const double volume = res.ref_volume * std::abs(fr.det6);
+  const double volume = original_volume(fr, res);
   const double smaller = std::min(std::abs(fr.det6), std::abs(fr.det6_sub)) * (1.0 / 6.0);
   if (!(volume <= smaller * (1.0 + 1e-12)) || !(volume < INFINITY)) [[unlikely]] return Outcome::exact;
   return Outcome::kernel;
@@ -197,7 +201,7 @@ template <bool kMoments, bool kFull>
       solve_with<kMoments, kFull>([&](Frame& f, bool other) { return make_frame(Us, Vs, f, other); }, fr, res, stats);
   if (o == Outcome::rescale) return Outcome::exact;
   if (o == Outcome::kernel) {
-    const double back = std::ldexp(res.ref_volume * std::abs(fr.det6), -3 * scale);
+    const double back = std::ldexp(original_volume(fr, res), -3 * scale);
     if (!(back >= 0x1p-1022) || !(back < INFINITY)) return Outcome::exact;
   }
   return o;

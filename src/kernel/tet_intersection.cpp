@@ -129,7 +129,7 @@ Moments OneToMany::moments(const Tet& t, const Conditioning& ct, unsigned* t_fac
       *t_faces = faces | kPlanesTested;
     }
   }
-  if (!ok || res.ref_volume == 0.0) return {};  // +0 moments, as intersection_moments
+  if (!ok || original_volume(fr, res) == 0.0) return {};  // +0 moments, as intersection_moments
   return original_moments(fr, res);
 }
 
@@ -206,7 +206,7 @@ double intersection_volume(const Tet& U, const Tet& V) {
     case Outcome::empty:
       return 0.0;
     case Outcome::kernel: {
-      const double v = res.ref_volume * std::abs(fr.det6);
+      const double v = detail::original_volume(fr, res);
       return scale == 0 ? v : std::ldexp(v, -3 * scale);
     }
     default:
@@ -224,7 +224,7 @@ Moments intersection_moments(const Tet& U, const Tet& V) {
     case Outcome::empty:
       return {};
     case Outcome::kernel:
-      if (res.ref_volume == 0.0) return {};  // +0 moments however the kernel summed zeros
+      if (detail::original_volume(fr, res) == 0.0) return {};  // +0 moments however the kernel summed zeros
       return scale == 0 ? detail::original_moments(fr, res)
                         : PolyhedronBuilder::unscaled(detail::original_moments(fr, res), scale);
     default:
