@@ -123,10 +123,11 @@ enum class FrameStatus { ok, flat_or_not_finite, rescale };
 FrameStatus frame_from(const Tet& U, const Conditioning& cu, const BarycentricMap* map_u, const Tet& V,
                        const Conditioning& cv, Frame& fr, bool other_reference) {
   const double qU = cu.quality, qV = cv.quality;
-  fr.size_squared_max = std::max(cu.s, cv.s);
-  if (!(cu.s >= 0x1p-500 && cv.s >= 0x1p-500 && cu.s <= 0x1p500 && cv.s <= 0x1p500 && cu.s <= 0x1p500 * cv.s &&
-        cv.s <= 0x1p500 * cu.s)) [[unlikely]]
+  const double s_lo = std::min(cu.s, cv.s), s_hi = std::max(cu.s, cv.s);
+  if (!(s_lo >= 0x1p-500 && s_hi <= 0x1p500 && s_hi <= 0x1p500 * s_lo)) [[unlikely]] {
+    fr.size_squared_max = s_hi;
     return FrameStatus::rescale;
+  }
   // Non-finite coordinates make a quality NaN or infinite; flat ones make it zero. Below
   // kFlatQuality a tetrahedron is flat to the rounding of its own coordinates (det6's error
   // bound is about 1e-15 s^(3/2)): a zero or wrongly signed det6 is possible. The kernel still

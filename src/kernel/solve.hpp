@@ -75,9 +75,10 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
     res.coordinate_scale = scale;
 #endif
   }
-  // X inside Y: its four vertices are the corners (algorithm2.hpp returns right after them).
-  res.x_inside = res.num_corners == 4 && res.corners[0].kind == kVertexOfX && res.corners[1].kind == kVertexOfX &&
-                 res.corners[2].kind == kVertexOfX && res.corners[3].kind == kVertexOfX;
+  // X inside Y: its four vertices are the corners (algorithm2.hpp adds the vertices of X first
+  // and returns right after them when all four are inside, so a fourth corner that is a
+  // vertex of X means all four are).
+  res.x_inside = res.num_corners == 4 && res.corners[3].kind == kVertexOfX;
   // Only a Polyhedron reads the facets and their fan volumes.
   const bool ok = build_facets<kMoments ? kFacetsMoments : kFacetsVolume, true, kFull>(res);
   if (!ok) {
