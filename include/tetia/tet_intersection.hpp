@@ -2,16 +2,31 @@
 // for tetrahedron-tetrahedron intersections in floating-point arithmetic".
 //
 // Contract:
-//  - Any vertex orientation of U and V is accepted. A flat (zero-volume, as computed) U or V
-//    gives an empty result, not an error. Non-finite input gives an empty result; check input at
-//    the boundary (the CLI and the mesh readers do).
+//  - Any vertex orientation of U and V is accepted. Non-finite input gives an empty result;
+//    check input at the boundary (the CLI and the mesh readers do).
+//  - Any finite input, from subnormal to 1e308 coordinates, gives a finite result: the volume is
+//    >= 0 and at most min(|U|, |V|) (1 + 1e-12), and it is 0 (or infinite) only when the exact
+//    volume rounds to that. An exactly flat tetrahedron gives an empty result. Extreme sizes
+//    are rescaled by an exact power of two; what the double computation does not certify (a
+//    frame that is flat or not finite in doubles for finite input, a tetrahedron flat to the
+//    rounding of its own coordinates, labels that close with neither reference, a volume that is
+//    not finite or exceeds the smaller tetrahedron) is computed exactly (GMP) and rounded once;
+//    the statistics count it. A tetrahedron inside the other is returned exactly.
+//  - Accuracy: within 1e-12 of the exact volume relative to the smaller tetrahedron on the
+//    tested families; where one tetrahedron is far smaller and cut by the other's faces, or a
+//    sliver, the error is about eps times the size ratio or the inverse relative height
+//    (docs/architecture.md, "Limit: very different sizes, and slivers").
 //  - The result is consistent: its corners and facets form a closed polytope whose facets are
 //    built from labels alone, so a real intersection cannot vanish through rounding
 //    (Theorem 6 and Corollary 2 of the paper).
 //  - Symmetric: intersect(U, V) and intersect(V, U) compute the same polytope bit for bit
 //    (the better-conditioned tetrahedron is always the reference, see docs/architecture.md);
 //    only the labels and barycentric coordinates are reported relative to the argument order.
-//  - No heap allocation, no exceptions.
+//  - Every entry point (intersect with or without statistics, intersection_volume,
+//    intersection_moments, either argument order, and the supermesh's internal one-to-many
+//    path) gives the same volume bit for bit.
+//  - No heap allocation and no exceptions on the double path; the exact last resort allocates
+//    (GMP) and is taken only for the inputs listed above.
 #pragma once
 
 #include <cstdint>

@@ -19,8 +19,10 @@
 //    better-conditioned triangle is the reference), and so does any reordering of either
 //    triangle's vertices (they are put in a canonical order first); labels and barycentric
 //    coordinates are reported relative to the caller's argument and vertex order.
-//  - Accuracy: within 1e-12 of the exact area relative to the smaller triangle on the tested
-//    families (tests/test_tri_vs_exact.cpp); tangent contacts give an empty polygon.
+//  - Accuracy: within 1e-12 of the exact area relative to the smaller triangle, at any size
+//    ratio (to 1e16 tested), sliver height (to 1e-12), scale (2^-500 to 2^500) and distance from
+//    the origin (2^50) (tests/test_tri_vs_exact.cpp, the Adversarial family); tangent contacts
+//    give an empty polygon.
 //  - Every entry point (intersect with or without statistics, intersection_area,
 //    intersection_moments, either argument order) gives the same area bit for bit.
 //  - No heap allocation and no exceptions on the double path; the exact last resort allocates
