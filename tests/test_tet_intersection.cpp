@@ -517,6 +517,22 @@ TEST(KernelContract, FlatToRoundingIsExact) {
   expect_contract(kRef, sliver, 1e-12, "sliver 2^-50");
 }
 
+TEST(KernelContract, RetryWithTheOtherReference) {
+  // A vertex of U on a face of V (the VertexOnBoundary family, vertices permuted): with the
+  // first reference the labels do not close; with the other they do. Counted as one
+  // inconsistency and one retry; the result is the exact one (the pair only touches).
+  const Tet U{{{1, 4, 5}, {2, -7, 11}, {2, -12, 8}, {-4.5, 4.125, -0.5}}};
+  const Tet V{{{6, -2, 10}, {-2, 8, 2}, {-2, 4, 0}, {-10, 2, -6}}};
+  for (const auto& [A, B] : {std::pair{&U, &V}, std::pair{&V, &U}}) {
+    IntersectionStats st;
+    intersect(*A, *B, &st);
+    EXPECT_EQ(st.retries, 1);
+    EXPECT_EQ(st.inconsistencies, 1);
+    EXPECT_EQ(st.exact_fallbacks, 0);
+  }
+  expect_contract(U, V, 1e-12, "retry");
+}
+
 TEST(KernelContract, SizeRatiosContainedAndCut) {
   // Contained at any size ratio, and cut at ratios where the kernel's error (about eps times
   // the ratio) stays below 1e-12 of the smaller tetrahedron or is caught by the volume test.
