@@ -1,7 +1,7 @@
 // Algorithm 1 (PANG2) of McCoid & Gander, "A provably robust algorithm for triangle-triangle
 // intersections in floating-point arithmetic" (ACM TOMS 48, 2022), in the form it is summarized
 // as Algorithm 1 of their tetrahedron paper (shared/paper), and built like the 3D kernel in
-// tet_intersection.cpp. Line numbers below are those of Algorithm 1.
+// src/kernel/. Line numbers below are those of Algorithm 1.
 //
 // Notation: B (the reference, the paper's V) is mapped to the reference triangle Y with vertices
 // (0, 0), (1, 0), (0, 1); A (the paper's U) to X by the same affine map. Every point has

@@ -17,7 +17,7 @@
 //
 // Implementation: the four binary signs of a point are kept as a 4-bit mask (bit p = sign of
 // coordinate p), so inheritance and the sign tests of lines 8 and 18 are bit operations. Nothing
-// here allocates; all arrays are sized by the worst case.
+// here allocates (but the exact last resort); all arrays are sized by the worst case.
 //
 // The kernel is one translation unit, this file, so that everything inlined stays inlined; it
 // is split into headers by the steps of Algorithm 2 (all in src/kernel/):
@@ -34,10 +34,16 @@
 //   facets.hpp              the facets from the corners' labels
 //   orientation.hpp         the facets oriented outward
 //   moments.hpp             volume and first moments; eq. (3) back to the caller's frame
-//   solve.hpp               one pair from start to end, with the repair (other reference)
+//   solve.hpp               one pair from start to end, with the repair (other reference),
+//                           the tests that certify the result, and the rescaling
 //   polyhedron_builder.hpp  the result as a Polyhedron
 //   one_to_many.hpp         one tetrahedron against many (the supermesh)
 //   tet_intersection.cpp    the entry points (this file)
+// and, shared with the 2D kernel (src/tri_intersection.cpp), what makes every finite input
+// work (docs/architecture.md, "Every finite input"):
+//   rescale.hpp             exact power-of-two scaling of extreme sizes
+//   exact_fallback.hpp      the exact last resort (GMP; implemented in src/exact.cpp)
+//   exact_sign.hpp          exact orient2d signs and values in double arithmetic (2D)
 #include "tetia/tet_intersection.hpp"
 
 #include <algorithm>
