@@ -384,9 +384,10 @@ struct DoubleDouble {
   double value() const { return hi + lo; }
 };
 
-// To a few ulps where exact_sign.hpp's expansion applies (differences below 2^496, products
-// above 2^-969: always, for rescaled input), else the double-double evaluation below, whose
-// error is about eps^2 times the permanent (not enough for the most extreme needles alone).
+// To a few ulps where exact_sign.hpp's expansion applies (differences below 2^496, and a
+// determinant above 2^-900 where products of the differences' parts underflow: always, for
+// rescaled input), else the double-double evaluation below, whose error is about eps^2 times
+// the permanent (not enough for the most extreme needles alone).
 double orient2d_dd(Vec2 a, Vec2 b, Vec2 c);
 double orient2d_accurate(Vec2 a, Vec2 b, Vec2 c) {
   double v;

@@ -5,9 +5,10 @@
 // intersection has no area really only touch (tri_intersection.cpp).
 //
 // Contract: orient2d_sign(a, b, c) is the sign (-1, 0, +1) of det[b - a, c - a] for the exact
-// values of the doubles, provided the differences stay below 2^496 in magnitude and their
-// nonzero products above 2^-969 (Dekker's split and error term are then exact); 2 (not a sign)
-// otherwise or for input that is not finite, so that the caller can take another way. No fused
+// values of the doubles, provided the differences stay below 2^496 in magnitude (Dekker's split
+// then cannot overflow) and, where products of their parts underflow, the determinant is above
+// 2^-958; 2 (not a sign) otherwise or for input that is not finite, so that the caller can take
+// another way. No fused
 // multiply-add is assumed or needed (the project builds with -ffp-contract=off).
 #pragma once
 
@@ -61,8 +62,12 @@ inline int grow(double* e, int n, double x) {
 }  // namespace exact_sign_impl
 
 // The expansion of det[b - a, c - a] (up to 32 components, increasing magnitude); returns its
-// length, or -1 where the conditions of orient2d_sign do not hold.
-inline int orient2d_expansion(double ax, double ay, double bx, double by, double cx, double cy, double (&e)[32]) {
+// length, or -1 where a difference is 2^496 or more (or not finite). A product of two parts
+// below 2^-969 in magnitude may lose its error term to underflow: `tiny` is then set, and the
+// expansion's sum is exact only to 2^-960 (sixteen such terms, each off by less than 2^-965),
+// which matters only for a determinant of that order.
+inline int orient2d_expansion(double ax, double ay, double bx, double by, double cx, double cy, double (&e)[32],
+                              bool& tiny) {
   using namespace exact_sign_impl;
   double h[4], l[4];  // exact differences: bx - ax, cy - ay, by - ay, cx - ax
   two_diff(bx, ax, h[0], l[0]);
@@ -81,7 +86,7 @@ inline int orient2d_expansion(double ax, double ay, double bx, double by, double
       two_product(w[i], z[j], q, qerr);
       // Dekker's error term is exact only while the product stays normal (above 2^-969 leaves
       // room for the split's halves).
-      if ((p != 0.0 && std::abs(p) < 0x1p-969) || (q != 0.0 && std::abs(q) < 0x1p-969)) return -1;
+      tiny |= (p != 0.0 && std::abs(p) < 0x1p-969) || (q != 0.0 && std::abs(q) < 0x1p-969);
       n = grow(e, n, err);
       n = grow(e, n, p);
       n = grow(e, n, -qerr);
@@ -92,8 +97,10 @@ inline int orient2d_expansion(double ax, double ay, double bx, double by, double
 
 inline int orient2d_sign(double ax, double ay, double bx, double by, double cx, double cy) {
   double e[32];
-  const int n = orient2d_expansion(ax, ay, bx, by, cx, cy, e);
+  bool tiny = false;
+  const int n = orient2d_expansion(ax, ay, bx, by, cx, cy, e, tiny);
   if (n < 0) return 2;
+  if (tiny && !(n > 0 && std::abs(e[n - 1]) > 0x1p-958)) return 2;  // at the level of the lost terms
   // The expansion's components do not overlap and grow in magnitude: the last one's sign is
   // the sum's.
   return n == 0 ? 0 : (e[n - 1] > 0.0 ? 1 : -1);
@@ -104,10 +111,12 @@ inline int orient2d_sign(double ax, double ay, double bx, double by, double cx, 
 // errors stay below the last component's ulp); false where orient2d_sign would return 2.
 inline bool orient2d_rounded(double ax, double ay, double bx, double by, double cx, double cy, double& value) {
   double e[32];
-  const int n = orient2d_expansion(ax, ay, bx, by, cx, cy, e);
+  bool tiny = false;
+  const int n = orient2d_expansion(ax, ay, bx, by, cx, cy, e, tiny);
   if (n < 0) return false;
   double sum = 0.0;
   for (int i = 0; i < n; ++i) sum += e[i];
+  if (tiny && !(std::abs(sum) > 0x1p-900)) return false;  // not resolved relative to the lost terms
   value = sum;
   return true;
 }
