@@ -58,6 +58,8 @@ step "kernel tests (build-scalar)"
 for t in "${kernel_tests[@]}"; do ./build-scalar/tests/"$t" --gtest_brief=1; done
 
 step "fuzz (clang++, libFuzzer + ASan/UBSan, ${TETIA_FUZZ_SECONDS:-20} s per kernel)"
-TETIA_FUZZ_SECONDS="${TETIA_FUZZ_SECONDS:-20}" bash scripts/fuzz.sh
+# A fixed seed: every run explores the same inputs (a slower machine a prefix of them), so that
+# the suite's verdict does not depend on chance; longer or other runs: scripts/fuzz.sh.
+TETIA_FUZZ_SECONDS="${TETIA_FUZZ_SECONDS:-20}" TETIA_FUZZ_ARGS="${TETIA_FUZZ_ARGS:--seed=1}" bash scripts/fuzz.sh
 
 step "all tests passed"
