@@ -7,7 +7,9 @@
 # build-fuzz/artifacts/ and printed as a text line (fuzz_replay --decode) ready for
 # fuzz/regressions/<target>/*.txt or `tetia pairs`. Exits non-zero on any finding.
 #
-# Environment: TETIA_FUZZ_SECONDS (per target), TETIA_JOBS (build parallelism, default 2),
+# Environment: TETIA_FUZZ_SECONDS (per target), TETIA_FUZZ_RUNS_TET and TETIA_FUZZ_RUNS_TRI (a fixed number
+# of inputs for fuzz_tet_kernel and fuzz_tri_kernel instead of a time, so that with a fixed -seed every machine explores the same inputs;
+# the time then only caps a run that is far slower than expected), TETIA_JOBS (build parallelism, default 2),
 # TETIA_FUZZ_ARGS (extra libFuzzer flags, e.g. "-seed=1"), TETIA_FUZZ_IGNORE (kinds of violation
 # to let pass, e.g. "moments-overflow,vanished-overflow"; see fuzz/fuzz_target.hpp).
 set -euo pipefail
@@ -38,10 +40,14 @@ for target in "${targets[@]}"; do
   corpus="$work/$target"
   mkdir -p "$corpus"
   cp fuzz/corpus/"$target"/* "$corpus"/
-  printf '\n==> %s, %s s\n' "$target" "$seconds"
+  runs="${TETIA_FUZZ_RUNS_TET:-}"
+  [[ $target == fuzz_tri_kernel ]] && runs="${TETIA_FUZZ_RUNS_TRI:-}"
+  limits=(-max_total_time="$seconds")
+  [[ -n $runs ]] && limits+=(-runs="$runs")
+  printf '\n==> %s, %s\n' "$target" "${runs:+$runs inputs, at most }$seconds s"
   ls "$artifacts" > "$work/before"
   # shellcheck disable=SC2086  # TETIA_FUZZ_ARGS is a list of flags
-  if ! "$build/$target" -max_total_time="$seconds" -max_len=256 -timeout=10 -print_final_stats=1 \
+  if ! "$build/$target" "${limits[@]}" -max_len=256 -timeout=10 -print_final_stats=1 \
       -artifact_prefix="$artifacts/$target-" ${TETIA_FUZZ_ARGS:-} "$corpus"; then
     status=1
   fi

@@ -860,6 +860,12 @@ Outcome solve(const Triangle& A_in, const Triangle& B_in, Frame& fr, KernelResul
     // is a triangle that is flat in doubles: exactly flat ones are empty in exact arithmetic too.
     return finite(A_in) && finite(B_in) ? Outcome::exact : Outcome::empty;
   }
+  // A doubled area below 2^-969 has fewer than 53 significant bits above the subnormal range:
+  // the products of differences it (and the kernel's coordinates) are made of round to absolute
+  // multiples of 2^-1074, not relative to the area, and the result could exceed the smaller
+  // triangle by several units of that (a needle 1e-314 wide). Exact arithmetic rounds once.
+  if (!(std::min(std::abs(fr.det2), std::abs(fr.det2_sub)) >= 0x1p-969)) [[unlikely]]
+    return Outcome::exact;
   if (stats && fr.swapped) ++stats->reference_swaps;
   bool ok = run_kernel<kMoments>(fr, res, stats);
   if (!ok) {
