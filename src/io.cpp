@@ -43,6 +43,10 @@
 #include <vector>
 
 #include "dimension.hpp"
+#include "io/gmsh_reader.hpp"
+#include "io/mesh_assembly.hpp"
+#include "io/msh_mesh.hpp"
+#include "io/msh_reader.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
 #define TETIA_ASAN 1
@@ -66,9 +70,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
-[[noreturn]] void fail(const std::string& name, const std::string& what) {
-  throw std::runtime_error("tetia: " + name + ": " + what);
-}
+using detail::drop_repeated_cells;
+using detail::Extracted;
+using detail::GmshCell;
+using detail::TagIndex;
+using detail::ViewData;
+using detail::check_planar;
+using detail::field_values;
+using detail::no_cells_message;
+
+[[noreturn]] void fail(const std::string& name, const std::string& what) { detail::io_fail(name, what); }
 
 // ---------------------------------------------------------------------------------------------
 // Gmsh sessions
@@ -181,162 +192,6 @@ class GmshSession {
   std::string name_;
 };
 
-// ---------------------------------------------------------------------------------------------
-// From Gmsh's model to a TetMesh or a TriMesh
-
-// Ranks positive tags: find(tag) is the number of smaller (kept) tags. A vector when the tags
-// are dense (the usual case: 1..N), a hash map otherwise.
-class TagIndex {
- public:
-  // `tags` in any order; `order` receives the input positions of the kept tags, by increasing
-  // tag. A tag given twice is kept once if `same(first, later)` (positions) says both are the
-  // same entity (Gmsh holds a mesh twice when a file has it twice), and is an error otherwise.
-  template <class Same>
-  void build(const std::vector<std::size_t>& tags, std::vector<std::size_t>& order, const std::string& name,
-             const char* kind, Same&& same) {
-    const std::size_t n = tags.size();
-    if (n > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
-      fail(name, std::string("too many ") + kind + "s for 32-bit indices");
-    const auto duplicate = [&](std::size_t tag) {
-      fail(name, std::string(kind) + " tag " + std::to_string(tag) + " given twice, differently");
-    };
-    order.clear();
-    order.reserve(n);
-    dense_.clear();
-    sparse_.clear();
-    const std::size_t max_tag = n == 0 ? 0 : *std::max_element(tags.begin(), tags.end());
-    if (max_tag / 4 <= n) {
-      dense_.assign(max_tag + 1, -1);
-      for (std::size_t i = 0; i < n; ++i) {
-        auto& slot = dense_[tags[i]];
-        if (slot == -1)
-          slot = static_cast<std::int32_t>(i);
-        else if (!same(static_cast<std::size_t>(slot), i))
-          duplicate(tags[i]);
-      }
-      std::int32_t rank = 0;
-      for (auto& slot : dense_)
-        if (slot >= 0) {
-          order.push_back(static_cast<std::size_t>(slot));
-          slot = rank++;
-        }
-    } else {
-      order.resize(n);
-      std::iota(order.begin(), order.end(), std::size_t{0});
-      std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return tags[a] < tags[b]; });
-      std::size_t kept = 0;
-      for (std::size_t k = 0; k < n; ++k) {
-        if (kept > 0 && tags[order[k]] == tags[order[kept - 1]]) {
-          if (!same(order[kept - 1], order[k])) duplicate(tags[order[k]]);
-          continue;
-        }
-        order[kept++] = order[k];
-      }
-      order.resize(kept);
-      sparse_.reserve(kept);
-      for (std::size_t k = 0; k < kept; ++k) sparse_.emplace(tags[order[k]], static_cast<std::int32_t>(k));
-    }
-  }
-
-  // -1 if the tag is not indexed.
-  std::int32_t find(std::size_t tag) const {
-    if (!sparse_.empty()) {
-      const auto it = sparse_.find(tag);
-      return it == sparse_.end() ? -1 : it->second;
-    }
-    return tag < dense_.size() ? dense_[tag] : -1;
-  }
-
- private:
-  std::vector<std::int32_t> dense_;
-  std::unordered_map<std::size_t, std::int32_t> sparse_;
-};
-
-template <class Mesh>
-struct Extracted {
-  Mesh mesh;                        // not finalized
-  TagIndex node_index, cell_index;  // Gmsh tag -> index in mesh.nodes / mesh.cells
-  std::size_t ignored = 0;          // elements of other types, and repeated cells
-  std::size_t higher_order = 0;     // elements of other types that are cells of order > 1
-};
-
-// Gmsh's element types of the cells read: the 4-node tetrahedron and the 3-node triangle, and
-// the prefix of Gmsh's names of their higher-order variants (counted for the error message).
-template <class Mesh>
-struct GmshCell;
-template <>
-struct GmshCell<TetMesh> {
-  static constexpr int type = 4;
-  static constexpr const char* family = "Tetrahedron";
-};
-template <>
-struct GmshCell<TriMesh> {
-  static constexpr int type = 2;
-  static constexpr const char* family = "Triangle";
-};
-
-// Drops the cells whose node set is that of an earlier one, and returns how many. A .msh
-// 2.2 file lists a cell once per physical group it belongs to, under different tags;
-// kept twice, it would make its facets look shared by three or four cells.
-template <std::size_t N>
-std::size_t drop_repeated_cells(std::vector<std::array<std::int32_t, N>>& cells, std::vector<std::size_t>& tags) {
-  struct Key {
-    std::array<std::int32_t, N> nodes;  // sorted
-    std::size_t cell;
-  };
-  std::vector<Key> keys(cells.size());
-  for (std::size_t c = 0; c < cells.size(); ++c) {
-    keys[c] = {cells[c], c};
-    std::sort(keys[c].nodes.begin(), keys[c].nodes.end());
-  }
-  std::sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
-    return a.nodes != b.nodes ? a.nodes < b.nodes : a.cell < b.cell;
-  });
-  std::vector<char> drop(cells.size(), 0);
-  std::size_t dropped = 0;
-  for (std::size_t k = 1; k < keys.size(); ++k)
-    if (keys[k].nodes == keys[k - 1].nodes) {
-      drop[keys[k].cell] = 1;  // the later of equal keys: the first cell is kept
-      ++dropped;
-    }
-  if (dropped == 0) return 0;
-  std::size_t kept = 0;
-  for (std::size_t c = 0; c < cells.size(); ++c)
-    if (!drop[c]) {
-      cells[kept] = cells[c];
-      tags[kept++] = tags[c];
-    }
-  cells.resize(kept);
-  tags.resize(kept);
-  return dropped;
-}
-
-// A 2D mesh must lie in a plane z = const (Gmsh writes 2D meshes with z = 0): the z of every
-// node of a triangle must agree with the first to 1e-12 of the size of the mesh (its x, y
-// extent and |z|), which leaves room for coordinates written with 16 digits and nothing else.
-void check_planar(const std::string& name, const std::vector<Vec2>& nodes, const std::vector<double>& z,
-                  const std::vector<std::array<std::int32_t, 3>>& cells) {
-  if (cells.empty()) return;
-  const double z0 = z[static_cast<std::size_t>(cells[0][0])];
-  double zlo = z0, zhi = z0, size = std::abs(z0);
-  Vec2 lo = nodes[static_cast<std::size_t>(cells[0][0])], hi = lo;
-  for (const auto& c : cells)
-    for (const auto v : c) {
-      const auto i = static_cast<std::size_t>(v);
-      zlo = std::min(zlo, z[i]);
-      zhi = std::max(zhi, z[i]);
-      lo = {std::min(lo.x, nodes[i].x), std::min(lo.y, nodes[i].y)};
-      hi = {std::max(hi.x, nodes[i].x), std::max(hi.y, nodes[i].y)};
-    }
-  size = std::max({size, std::abs(zlo), std::abs(zhi), hi.x - lo.x, hi.y - lo.y});
-  if (zhi - zlo > 1e-12 * size) {
-    char range[96];
-    std::snprintf(range, sizeof range, "z from %.17g to %.17g", zlo, zhi);
-    fail(name, std::string("the triangles do not lie in a plane z = const (") + range +
-                   "); 2D meshes must be in the xy plane");
-  }
-}
-
 // The current model's nodes (all of them, by increasing tag) and first-order cells of the mesh
 // type (every entity, by increasing tag, each node set once). For triangles the nodes' z is
 // dropped after checking that the triangles lie in a plane z = const. Contract: inside a
@@ -438,14 +293,6 @@ int loaded_dimension(GmshSession& s) {
   return dim;
 }
 
-// A view's data: model-based NodeData or ElementData (other views are skipped).
-struct ViewData {
-  std::string name, type;  // type: "NodeData" or "ElementData"
-  int components = 0;
-  std::vector<std::size_t> tags;
-  std::vector<std::vector<double>> values;
-};
-
 // The views loaded with the file (Gmsh makes one per $NodeData/$ElementData name), each at its
 // first non-empty time step. `with_values` = false keeps names and types only.
 std::vector<ViewData> loaded_views(GmshSession& s, bool with_values) {
@@ -473,8 +320,12 @@ std::vector<ViewData> loaded_views(GmshSession& s, bool with_values) {
       if (tags.empty()) continue;
       v.components = comps;
       if (with_values) {
-        v.tags = std::move(tags);
-        v.values = std::move(values);
+        // Flat, one value per tag (only scalar fields are read; entries without one dropped).
+        for (std::size_t i = 0; i < tags.size(); ++i)
+          if (!values[i].empty()) {
+            v.tags.push_back(tags[i]);
+            v.values.push_back(values[i][0]);
+          }
       }
       break;
     }
@@ -510,18 +361,6 @@ void check_mesh_file(const fs::path& file, const std::string& name) {
 // project lock and reset state we set.
 void load(GmshSession& s, const fs::path& file) {
   s.run("cannot read", [&] { gmsh::merge(file.string()); });
-}
-
-template <class Mesh>
-std::string no_cells_message(const Extracted<Mesh>& ex) {
-  const std::string cells = detail::Dim<Mesh>::cells_word;
-  std::string m = "no " + cells;
-  if (ex.higher_order > 0)
-    m += " of first order (" + std::to_string(ex.higher_order) + " higher-order " + cells +
-         " are not supported; convert with Gmsh: -order 1)";
-  else
-    m += " (" + std::to_string(ex.ignored) + " other elements ignored)";
-  return m;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -688,26 +527,10 @@ Mesh generate(const std::string& name, double h, double measure, AddShape&& add_
   return std::move(ex.mesh);
 }
 
-// Checks the file, opens it in a Gmsh session and extracts its cells of the mesh type; with
-// `views`, also the data it carries (with their values when `values`).
-template <class Mesh>
-Extracted<Mesh> open_and_extract(const std::filesystem::path& file, const std::string& name,
-                                 std::vector<ViewData>* views, bool values) {
-  check_mesh_file(file, name);
-  GmshSession s(name);
-  load(s, file);
-  Extracted<Mesh> ex = extract<Mesh>(s);
-  if (views != nullptr) *views = loaded_views(s, values);
-  return ex;
-}
 
-// Nodes by increasing tag (all of the file's nodes, used or not), first-order cells of every
-// entity and physical group by increasing tag, each node set once; then finalize(mesh, FILE).
+// What a read returns, from either reader: finalize(mesh, FILE), and the info.
 template <class Mesh>
-Mesh read(const std::filesystem::path& file, MeshReadInfo* info) {
-  const std::string name = file.string();
-  std::vector<ViewData> views;
-  Extracted<Mesh> ex = open_and_extract<Mesh>(file, name, info != nullptr ? &views : nullptr, false);
+Mesh finish(Extracted<Mesh>&& ex, const std::string& name, const std::vector<ViewData>& views, MeshReadInfo* info) {
   if (ex.mesh.cells.empty()) fail(name, no_cells_message(ex));
   finalize(ex.mesh, name);
   if (info != nullptr) {
@@ -718,40 +541,22 @@ Mesh read(const std::filesystem::path& file, MeshReadInfo* info) {
   return std::move(ex.mesh);
 }
 
-// The first non-empty time step of the named NodeData / ElementData, in the reader's order of
-// nodes / cells (matched by tag, so any tag numbering works). Every node / cell must have a
-// value; values on elements other than the kept cells are ignored.
+// The strict reader (io/msh_reader.hpp, io/msh_mesh.hpp) on the file's bytes.
+struct ParsedFile {
+  std::string bytes;
+  detail::MshFile msh;
+  ParsedFile(const fs::path& file, const std::string& name)
+      : bytes(detail::read_file_bytes(file, name)), msh(detail::parse_msh(bytes, name)) {}
+};
+
+// Nodes by increasing tag (all of the file's nodes, used or not), first-order cells of every
+// entity and physical group by increasing tag, each node set once; then finalize(mesh, FILE).
 template <class Mesh>
-std::vector<double> field_values(const std::string& name, const Extracted<Mesh>& ex,
-                                 const std::vector<ViewData>& views, const std::string& field_name, bool on_cells) {
-  const char* kind = on_cells ? "cell" : "node";
-  const std::string type = on_cells ? "ElementData" : "NodeData";
-  const ViewData* found = nullptr;
-  std::string available;
-  for (const auto& v : views) {
-    if (v.type != type) continue;
-    if (v.name == field_name && found == nullptr) found = &v;
-    available += (available.empty() ? "" : ", ") + v.name;
-  }
-  if (found == nullptr)
-    fail(name, std::string("no ") + kind + " field named " + field_name + " (" + kind +
-                   " fields: " + (available.empty() ? "none" : available) + ")");
-  if (found->components != 1)
-    fail(name, "field " + field_name + " has " + std::to_string(found->components) +
-                   " components; only scalar fields are read");
-  const TagIndex& index = on_cells ? ex.cell_index : ex.node_index;
-  const std::size_t n = on_cells ? ex.mesh.cells.size() : ex.mesh.nodes.size();
-  std::vector<double> values(n, std::numeric_limits<double>::quiet_NaN());
-  std::vector<char> set(n, 0);
-  for (std::size_t i = 0; i < found->tags.size(); ++i) {
-    const std::int32_t k = index.find(found->tags[i]);
-    if (k < 0 || found->values[i].empty()) continue;  // data on elements other than the cells
-    values[static_cast<std::size_t>(k)] = found->values[i][0];
-    set[static_cast<std::size_t>(k)] = 1;
-  }
-  for (std::size_t k = 0; k < n; ++k)
-    if (!set[k]) fail(name, "field " + field_name + " has no value for " + kind + " " + std::to_string(k));
-  return values;
+Mesh read(const std::filesystem::path& file, MeshReadInfo* info) {
+  const std::string name = file.string();
+  const ParsedFile f(file, name);
+  const std::vector<ViewData> views = info != nullptr ? detail::msh_views(f.msh, false) : std::vector<ViewData>{};
+  return finish(detail::extract_msh<Mesh>(f.msh, name), name, views, info);
 }
 
 // VTK XML UnstructuredGrid (format 0.1), ASCII: Float64 points (z = 0 for triangles) and
@@ -863,39 +668,19 @@ TetMesh read_mesh(const std::filesystem::path& file, MeshReadInfo* info) { retur
 
 TriMesh read_tri_mesh(const std::filesystem::path& file, MeshReadInfo* info) { return read<TriMesh>(file, info); }
 
-// One Gmsh session: the dimension is decided on the loaded model, which is then extracted.
 AnyMesh read_any_mesh(const std::filesystem::path& file, MeshReadInfo* info) {
   const std::string name = file.string();
-  check_mesh_file(file, name);
-  std::vector<ViewData> views;
-  const auto finish = [&](auto&& ex) {
-    if (ex.mesh.cells.empty()) fail(name, no_cells_message(ex));
-    finalize(ex.mesh, name);
-    if (info != nullptr) {
-      *info = MeshReadInfo{};
-      info->ignored_elements = ex.ignored;
-      for (const auto& v : views) (v.type == "NodeData" ? info->node_fields : info->cell_fields).push_back(v.name);
-    }
-    return AnyMesh(std::move(ex.mesh));
-  };
-  GmshSession s(name);
-  load(s, file);
-  const int dim = loaded_dimension(s);
-  if (dim == 0) {
-    Extracted<TetMesh> ex = extract<TetMesh>(s);
-    fail(name, "no tetrahedra or triangles (" + std::to_string(ex.ignored) + " other elements ignored)");
-  }
-  if (info != nullptr) views = loaded_views(s, false);
-  if (dim == 3) return finish(extract<TetMesh>(s));
-  return finish(extract<TriMesh>(s));
+  const ParsedFile f(file, name);
+  const int dim = detail::msh_dimension(f.msh);
+  const std::vector<ViewData> views = info != nullptr ? detail::msh_views(f.msh, false) : std::vector<ViewData>{};
+  if (dim == 3) return finish(detail::extract_msh<TetMesh>(f.msh, name), name, views, info);
+  if (dim == 2) return finish(detail::extract_msh<TriMesh>(f.msh, name), name, views, info);
+  fail(name, "no tetrahedra or triangles (" + std::to_string(f.msh.other_elements) + " other elements ignored)");
 }
 
 int mesh_dimension(const std::filesystem::path& file) {
   const std::string name = file.string();
-  check_mesh_file(file, name);
-  GmshSession s(name);
-  load(s, file);
-  const int dim = loaded_dimension(s);
+  const int dim = detail::msh_dimension(ParsedFile(file, name).msh);
   if (dim == 0) fail(name, "no tetrahedra or triangles");
   return dim;
 }
@@ -904,6 +689,32 @@ int mesh_dimension(const std::filesystem::path& file) {
 // any, else triangles), in the order read_mesh / read_tri_mesh give them.
 std::vector<double> read_msh_field(const std::filesystem::path& file, const std::string& field_name, bool on_cells) {
   const std::string name = file.string();
+  const ParsedFile f(file, name);
+  const std::vector<ViewData> views = detail::msh_views(f.msh, true);
+  if (detail::msh_dimension(f.msh) == 2)
+    return field_values(name, detail::extract_msh<TriMesh>(f.msh, name), views, field_name, on_cells);
+  return field_values(name, detail::extract_msh<TetMesh>(f.msh, name), views, field_name, on_cells);
+}
+
+namespace detail {
+
+// Gmsh's reader, for the tests that compare the two (io/gmsh_reader.hpp): one Gmsh session,
+// the dimension decided on the loaded model, which is then extracted.
+AnyMesh gmsh_read_any_mesh(const std::filesystem::path& file, MeshReadInfo* info) {
+  const std::string name = file.string();
+  check_mesh_file(file, name);
+  GmshSession s(name);
+  load(s, file);
+  const int dim = loaded_dimension(s);
+  if (dim == 0) fail(name, "no tetrahedra or triangles");
+  const std::vector<ViewData> views = info != nullptr ? loaded_views(s, false) : std::vector<ViewData>{};
+  if (dim == 3) return finish(extract<TetMesh>(s), name, views, info);
+  return finish(extract<TriMesh>(s), name, views, info);
+}
+
+std::vector<double> gmsh_read_msh_field(const std::filesystem::path& file, const std::string& field_name,
+                                        bool on_cells) {
+  const std::string name = file.string();
   check_mesh_file(file, name);
   GmshSession s(name);
   load(s, file);
@@ -911,6 +722,8 @@ std::vector<double> read_msh_field(const std::filesystem::path& file, const std:
   if (loaded_dimension(s) == 2) return field_values(name, extract<TriMesh>(s), views, field_name, on_cells);
   return field_values(name, extract<TetMesh>(s), views, field_name, on_cells);
 }
+
+}  // namespace detail
 
 void write_vtu(const std::filesystem::path& file, const TetMesh& mesh, const std::vector<Field>& cell_data,
                const std::vector<Field>& point_data) {

@@ -391,9 +391,9 @@ TEST_F(IoTest, ReadErrorsNameTheFile) {
   expect_error(path("text.msh"), "not a Gmsh mesh file");
   write_text(path("empty.msh"), "");
   expect_error(path("empty.msh"), "not a Gmsh mesh file");
-  // A good mesh under another extension: Gmsh would hand it to another reader.
+  // The content decides, not the name (the reader is tetia's own, io/msh_reader.hpp).
   write_text(path("mesh.stl"), kMixedMsh22);
-  expect_error(path("mesh.stl"), "not a .msh file name");
+  EXPECT_EQ(tetia::read_mesh(path("mesh.stl")).num_cells(), 2u);
   write_text(path("MESH.MSH"), kMixedMsh22);
   EXPECT_EQ(tetia::read_mesh(path("MESH.MSH")).num_cells(), 2u);
 
@@ -413,11 +413,11 @@ TEST_F(IoTest, ReadErrorsNameTheFile) {
   // Truncated in the middle of $Nodes, and an element naming a node that does not exist.
   const std::string mixed = kMixedMsh22;
   write_text(path("truncated.msh"), mixed.substr(0, mixed.find("4 0 0 1")));
-  expect_error(path("truncated.msh"), "cannot read");
+  expect_error(path("truncated.msh"), "line 5: the file declares 5 nodes, more than its remaining 24 bytes can hold");
   std::string bad_node = mixed;
   bad_node.replace(bad_node.find("5 2 3 4"), 7, "9 2 3 4");
   write_text(path("bad_node.msh"), bad_node);
-  expect_error(path("bad_node.msh"), "cannot read");
+  expect_error(path("bad_node.msh"), "line 18: element 5: unknown node tag 9");
 
   // Valid for Gmsh, invalid for a tetrahedral mesh: finalize's message, with the file name.
   std::string repeated = mixed;
@@ -426,7 +426,6 @@ TEST_F(IoTest, ReadErrorsNameTheFile) {
   EXPECT_EQ(error_of([&] { tetia::read_mesh(path("repeated.msh")); }),
             "tetia: " + path("repeated.msh").string() + ": cell 1: repeated node");
 
-  // Gmsh is still usable after all of the above (its errors must not leave it locked).
   write_text(path("mixed.msh"), kMixedMsh22);
   EXPECT_EQ(tetia::read_mesh(path("mixed.msh")).num_cells(), 2u);
 }

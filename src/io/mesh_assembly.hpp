@@ -1,0 +1,248 @@
+// src/io/mesh_assembly.hpp -- from the tags of a file to a mesh: what both readers (the strict
+// .msh reader, msh_mesh.cpp, and the Gmsh model of a generated mesh, io.cpp) share: tag indices,
+// cells listed twice, the plane check of 2D meshes, field values matched by tag (internal to the
+// library).
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "../dimension.hpp"
+#include "tetia/mesh.hpp"
+
+namespace tetia::detail {
+
+[[noreturn]] inline void io_fail(const std::string& name, const std::string& what) {
+  throw std::runtime_error("tetia: " + name + ": " + what);
+}
+
+// Ranks positive tags: find(tag) is the number of smaller (kept) tags. A vector when the tags
+// are dense (the usual case: 1..N), a hash map otherwise.
+class TagIndex {
+ public:
+  // `tags` in any order; `order` receives the input positions of the kept tags, by increasing
+  // tag. A tag given twice is kept once if `same(first, later)` (positions) says both are the
+  // same entity (Gmsh holds a mesh twice when a file has it twice), and is an error otherwise,
+  // whose message ends with `where(first, later)` (the strict reader: the two lines).
+  template <class Same, class Where>
+  void build(const std::vector<std::size_t>& tags, std::vector<std::size_t>& order, const std::string& name,
+             const char* kind, Same&& same, Where&& where) {
+    const std::size_t n = tags.size();
+    if (n > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
+      io_fail(name, std::string("too many ") + kind + "s for 32-bit indices");
+    const auto duplicate = [&](std::size_t first, std::size_t later) {
+      io_fail(name, std::string(kind) + " tag " + std::to_string(tags[later]) + " given twice, differently" +
+                        where(first, later));
+    };
+    order.clear();
+    order.reserve(n);
+    dense_.clear();
+    sparse_.clear();
+    const std::size_t max_tag = n == 0 ? 0 : *std::max_element(tags.begin(), tags.end());
+    if (max_tag / 4 <= n) {
+      dense_.assign(max_tag + 1, -1);
+      for (std::size_t i = 0; i < n; ++i) {
+        auto& slot = dense_[tags[i]];
+        if (slot == -1)
+          slot = static_cast<std::int32_t>(i);
+        else if (!same(static_cast<std::size_t>(slot), i))
+          duplicate(static_cast<std::size_t>(slot), i);
+      }
+      std::int32_t rank = 0;
+      for (auto& slot : dense_)
+        if (slot >= 0) {
+          order.push_back(static_cast<std::size_t>(slot));
+          slot = rank++;
+        }
+    } else {
+      order.resize(n);
+      std::iota(order.begin(), order.end(), std::size_t{0});
+      std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return tags[a] < tags[b]; });
+      std::size_t kept = 0;
+      for (std::size_t k = 0; k < n; ++k) {
+        if (kept > 0 && tags[order[k]] == tags[order[kept - 1]]) {
+          if (!same(order[kept - 1], order[k])) duplicate(order[kept - 1], order[k]);
+          continue;
+        }
+        order[kept++] = order[k];
+      }
+      order.resize(kept);
+      sparse_.reserve(kept);
+      for (std::size_t k = 0; k < kept; ++k) sparse_.emplace(tags[order[k]], static_cast<std::int32_t>(k));
+    }
+  }
+  template <class Same>
+  void build(const std::vector<std::size_t>& tags, std::vector<std::size_t>& order, const std::string& name,
+             const char* kind, Same&& same) {
+    build(tags, order, name, kind, same, [](std::size_t, std::size_t) { return std::string(); });
+  }
+
+  // -1 if the tag is not indexed.
+  std::int32_t find(std::size_t tag) const {
+    if (!sparse_.empty()) {
+      const auto it = sparse_.find(tag);
+      return it == sparse_.end() ? -1 : it->second;
+    }
+    return tag < dense_.size() ? dense_[tag] : -1;
+  }
+
+ private:
+  std::vector<std::int32_t> dense_;
+  std::unordered_map<std::size_t, std::int32_t> sparse_;
+};
+
+template <class Mesh>
+struct Extracted {
+  Mesh mesh;                        // not finalized
+  TagIndex node_index, cell_index;  // Gmsh tag -> index in mesh.nodes / mesh.cells
+  std::size_t ignored = 0;          // elements of other types, and repeated cells
+  std::size_t higher_order = 0;     // elements of other types that are cells of order > 1
+};
+
+// Gmsh's element types of the cells read: the 4-node tetrahedron and the 3-node triangle, and
+// the prefix of Gmsh's names of their higher-order variants (counted for the error message).
+template <class Mesh>
+struct GmshCell;
+template <>
+struct GmshCell<TetMesh> {
+  static constexpr int type = 4;
+  static constexpr const char* family = "Tetrahedron";
+};
+template <>
+struct GmshCell<TriMesh> {
+  static constexpr int type = 2;
+  static constexpr const char* family = "Triangle";
+};
+
+// Drops the cells whose node set is that of an earlier one, and returns how many. A .msh
+// 2.2 file lists a cell once per physical group it belongs to, under different tags;
+// kept twice, it would make its facets look shared by three or four cells.
+template <std::size_t N>
+std::size_t drop_repeated_cells(std::vector<std::array<std::int32_t, N>>& cells, std::vector<std::size_t>& tags) {
+  struct Key {
+    std::array<std::int32_t, N> nodes;  // sorted
+    std::size_t cell;
+  };
+  std::vector<Key> keys(cells.size());
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    keys[c] = {cells[c], c};
+    std::sort(keys[c].nodes.begin(), keys[c].nodes.end());
+  }
+  std::sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
+    return a.nodes != b.nodes ? a.nodes < b.nodes : a.cell < b.cell;
+  });
+  std::vector<char> drop(cells.size(), 0);
+  std::size_t dropped = 0;
+  for (std::size_t k = 1; k < keys.size(); ++k)
+    if (keys[k].nodes == keys[k - 1].nodes) {
+      drop[keys[k].cell] = 1;  // the later of equal keys: the first cell is kept
+      ++dropped;
+    }
+  if (dropped == 0) return 0;
+  std::size_t kept = 0;
+  for (std::size_t c = 0; c < cells.size(); ++c)
+    if (!drop[c]) {
+      cells[kept] = cells[c];
+      tags[kept++] = tags[c];
+    }
+  cells.resize(kept);
+  tags.resize(kept);
+  return dropped;
+}
+
+// A 2D mesh must lie in a plane z = const (Gmsh writes 2D meshes with z = 0): the z of every
+// node of a triangle must agree with the first to 1e-12 of the size of the mesh (its x, y
+// extent and |z|), which leaves room for coordinates written with 16 digits and nothing else.
+inline void check_planar(const std::string& name, const std::vector<Vec2>& nodes, const std::vector<double>& z,
+                  const std::vector<std::array<std::int32_t, 3>>& cells) {
+  if (cells.empty()) return;
+  const double z0 = z[static_cast<std::size_t>(cells[0][0])];
+  double zlo = z0, zhi = z0, size = std::abs(z0);
+  Vec2 lo = nodes[static_cast<std::size_t>(cells[0][0])], hi = lo;
+  for (const auto& c : cells)
+    for (const auto v : c) {
+      const auto i = static_cast<std::size_t>(v);
+      zlo = std::min(zlo, z[i]);
+      zhi = std::max(zhi, z[i]);
+      lo = {std::min(lo.x, nodes[i].x), std::min(lo.y, nodes[i].y)};
+      hi = {std::max(hi.x, nodes[i].x), std::max(hi.y, nodes[i].y)};
+    }
+  size = std::max({size, std::abs(zlo), std::abs(zhi), hi.x - lo.x, hi.y - lo.y});
+  if (zhi - zlo > 1e-12 * size) {
+    char range[96];
+    std::snprintf(range, sizeof range, "z from %.17g to %.17g", zlo, zhi);
+    io_fail(name, std::string("the triangles do not lie in a plane z = const (") + range +
+                   "); 2D meshes must be in the xy plane");
+  }
+}
+
+// A field of a file at one time step: NodeData or ElementData (Gmsh: a model-based view).
+struct ViewData {
+  std::string name, type;  // type: "NodeData" or "ElementData"
+  int components = 0;
+  std::vector<std::size_t> tags;
+  std::vector<double> values;  // `components` per tag
+};
+
+template <class Mesh>
+std::string no_cells_message(const Extracted<Mesh>& ex) {
+  const std::string cells = detail::Dim<Mesh>::cells_word;
+  std::string m = "no " + cells;
+  if (ex.higher_order > 0)
+    m += " of first order (" + std::to_string(ex.higher_order) + " higher-order " + cells +
+         " are not supported; convert with Gmsh: -order 1)";
+  else
+    m += " (" + std::to_string(ex.ignored) + " other elements ignored)";
+  return m;
+}
+
+// The first non-empty time step of the named NodeData / ElementData, in the reader's order of
+// nodes / cells (matched by tag, so any tag numbering works). Every node / cell must have a
+// value; values on elements other than the kept cells are ignored.
+template <class Mesh>
+std::vector<double> field_values(const std::string& name, const Extracted<Mesh>& ex,
+                                 const std::vector<ViewData>& views, const std::string& field_name, bool on_cells) {
+  const char* kind = on_cells ? "cell" : "node";
+  const std::string type = on_cells ? "ElementData" : "NodeData";
+  const ViewData* found = nullptr;
+  std::string available;
+  for (const auto& v : views) {
+    if (v.type != type) continue;
+    if (v.name == field_name && found == nullptr) found = &v;
+    available += (available.empty() ? "" : ", ") + v.name;
+  }
+  if (found == nullptr)
+    io_fail(name, std::string("no ") + kind + " field named " + field_name + " (" + kind +
+                   " fields: " + (available.empty() ? "none" : available) + ")");
+  if (found->components != 1)
+    io_fail(name, "field " + field_name + " has " + std::to_string(found->components) +
+                   " components; only scalar fields are read");
+  const TagIndex& index = on_cells ? ex.cell_index : ex.node_index;
+  const std::size_t n = on_cells ? ex.mesh.cells.size() : ex.mesh.nodes.size();
+  std::vector<double> values(n, std::numeric_limits<double>::quiet_NaN());
+  std::vector<char> set(n, 0);
+  for (std::size_t i = 0; i < found->tags.size(); ++i) {
+    const std::int32_t k = index.find(found->tags[i]);
+    if (k < 0) continue;  // data on elements other than the cells
+    if (set[static_cast<std::size_t>(k)])
+      io_fail(name, "field " + field_name + ": " + (on_cells ? "element" : "node") + " tag " +
+                        std::to_string(found->tags[i]) + " has two values");
+    values[static_cast<std::size_t>(k)] = found->values[i];
+    set[static_cast<std::size_t>(k)] = 1;
+  }
+  for (std::size_t k = 0; k < n; ++k)
+    if (!set[k]) io_fail(name, "field " + field_name + " has no value for " + kind + " " + std::to_string(k));
+  return values;
+}
+
+}  // namespace tetia::detail

@@ -1,0 +1,113 @@
+// src/io/msh_mesh.cpp -- extract_msh, msh_dimension, msh_views (msh_mesh.hpp).
+#include "msh_mesh.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace tetia::detail {
+
+template <class Mesh>
+Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name) {
+  using Dm = Dim<Mesh>;
+  constexpr std::size_t nv = Dm::nv;
+  const MshCells& kept = Dm::d == 3 ? file.tetrahedra : file.triangles;
+  const MshCells& other = Dm::d == 3 ? file.triangles : file.tetrahedra;
+  Extracted<Mesh> ex;
+  const auto lines = [&](const std::vector<std::size_t>& where) {
+    return [&file, &where](std::size_t first, std::size_t later) {
+      return " (" + file.location(where[first]) + " and " + file.location(where[later]) + ")";
+    };
+  };
+
+  std::vector<std::size_t> order;
+  ex.node_index.build(
+      file.node_tags, order, name, "node",
+      [&](std::size_t i, std::size_t j) { return std::equal(&file.xyz[3 * i], &file.xyz[3 * i + 3], &file.xyz[3 * j]); },
+      lines(file.node_where));
+  auto& nodes = ex.mesh.nodes;
+  nodes.resize(order.size());
+  std::vector<double> z;  // 2D: the dropped coordinate, checked below
+  if constexpr (Dm::d == 2) z.resize(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const double* p = &file.xyz[3 * order[k]];
+    nodes[k] = Dm::point(p);
+    if constexpr (Dm::d == 2) z[k] = p[2];
+  }
+
+  {
+    TagIndex by_tag;  // only for the order; cell_index is built on the cells kept
+    by_tag.build(
+        kept.tags, order, name, "element",
+        [&](std::size_t i, std::size_t j) {
+          std::array<std::uint64_t, nv> a, b;
+          std::copy_n(&kept.nodes[nv * i], nv, a.begin());
+          std::copy_n(&kept.nodes[nv * j], nv, b.begin());
+          std::sort(a.begin(), a.end());
+          std::sort(b.begin(), b.end());
+          return a == b;
+        },
+        lines(kept.where));
+  }
+  ex.ignored = file.other_elements + other.tags.size() + (kept.tags.size() - order.size());
+  ex.higher_order = Dm::d == 3 ? file.higher_order_tetrahedra : file.higher_order_triangles;
+  auto& cells = ex.mesh.cells;
+  std::vector<std::size_t> cell_tags(order.size());
+  cells.resize(order.size());
+  for (std::size_t c = 0; c < order.size(); ++c) {
+    cell_tags[c] = kept.tags[order[c]];
+    const std::uint64_t* en = &kept.nodes[nv * order[c]];
+    for (std::size_t j = 0; j < nv; ++j) {
+      const std::int32_t idx = ex.node_index.find(en[j]);
+      if (idx < 0)
+        io_fail(name, file.location(kept.where[order[c]]) + ": element " + std::to_string(cell_tags[c]) +
+                          ": unknown node tag " + std::to_string(en[j]));
+      cells[c][j] = idx;
+    }
+  }
+  ex.ignored += drop_repeated_cells(cells, cell_tags);
+  ex.cell_index.build(cell_tags, order, name, "element", [](std::size_t, std::size_t) { return false; });
+  if constexpr (Dm::d == 2) check_planar(name, nodes, z, cells);
+  return ex;
+}
+
+template Extracted<TetMesh> extract_msh<TetMesh>(const MshFile&, const std::string&);
+template Extracted<TriMesh> extract_msh<TriMesh>(const MshFile&, const std::string&);
+
+int msh_dimension(const MshFile& file) {
+  if (!file.tetrahedra.tags.empty() || file.higher_order_tetrahedra > 0) return 3;
+  if (!file.triangles.tags.empty() || file.higher_order_triangles > 0) return 2;
+  return 0;
+}
+
+std::vector<ViewData> msh_views(const MshFile& file, bool with_values) {
+  std::vector<ViewData> out;
+  std::vector<const MshData*> chosen;
+  for (const MshData& d : file.data) {
+    const std::string type = d.on_elements ? "ElementData" : "NodeData";
+    std::size_t k = 0;
+    while (k < out.size() && !(out[k].name == d.name && out[k].type == type)) ++k;
+    if (k == out.size()) {
+      out.push_back(ViewData{d.name, type, 0, {}, {}});
+      chosen.push_back(nullptr);
+    }
+    if (d.tags.empty()) continue;
+    if (chosen[k] == nullptr || d.step < chosen[k]->step) chosen[k] = &d;
+  }
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    if (chosen[k] == nullptr) continue;
+    out[k].components = chosen[k]->components;
+    if (with_values) {
+      out[k].tags.assign(chosen[k]->tags.begin(), chosen[k]->tags.end());
+      out[k].values = chosen[k]->values;
+    }
+  }
+  // As Gmsh: a field that never has values is not a field.
+  out.erase(std::remove_if(out.begin(), out.end(), [](const ViewData& v) { return v.components == 0; }), out.end());
+  return out;
+}
+
+}  // namespace tetia::detail
