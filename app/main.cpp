@@ -99,7 +99,9 @@ int main(int argc, char** argv) {
   sm_cmd->add_option("source", sm.source, "Source mesh (.msh 2.2 or 4.1, ASCII or binary)")->required();
   sm_cmd->add_option("target", sm.target, "Target mesh")->required();
   sm_cmd->add_option("-o,--output", sm.output, "Write the supermesh (its tetrahedralization) as VTU");
-  sm_cmd->add_option("--threads", sm.threads, "OpenMP threads (0: default)")->capture_default_str();
+  sm_cmd->add_option("--threads", sm.threads, "OpenMP threads (0: default)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
   sm_cmd->add_option("--search", sm.search, "Candidate search: front (advancing front; target cells must not overlap) or rtree")
       ->check(CLI::IsMember({"front", "rtree"}))
       ->capture_default_str();
@@ -122,7 +124,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   rm_cmd->add_option("-o,--output", rm.output, "Write the target mesh with the remapped field as VTU");
   rm_cmd->add_option("--matrix", rm.matrix, "Write the coupling (mixed mass) matrix in Matrix Market format");
-  rm_cmd->add_option("--threads", rm.threads, "OpenMP threads (0: default)")->capture_default_str();
+  rm_cmd->add_option("--threads", rm.threads, "OpenMP threads (0: default)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
   rm_cmd->footer("Meshes of either dimension (as for supermesh), both the same.\n"
                  "Prints a JSON summary: dimension, order, source_cells, target_cells, pairs,\n"
                  "source_volume, target_volume, intersection_volume (in 2D: source_area, target_area,\n"
@@ -139,7 +143,9 @@ int main(int argc, char** argv) {
   demo_cmd->add_option("--dim", demo.dim, "3: tetrahedral meshes, 2: triangular meshes")
       ->check(CLI::IsMember({2, 3}))
       ->capture_default_str();
-  demo_cmd->add_option("--threads", demo.threads, "OpenMP threads (0: default)")->capture_default_str();
+  demo_cmd->add_option("--threads", demo.threads, "OpenMP threads (0: default)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
 
   try {
     app.parse(argc, argv);

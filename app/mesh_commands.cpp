@@ -8,9 +8,11 @@
 #include <muParser.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -21,6 +23,7 @@
 #include <variant>
 #include <vector>
 
+#include "../src/compensated_sum.hpp"
 #include "pairs.hpp"
 #include "tetia/io.hpp"
 #include "tetia/remap.hpp"
@@ -128,11 +131,11 @@ std::array<double, 2> bary_tail(const Triangle& t, Vec2 c) {
 // volume, which is exact for a linear function.
 template <class Mesh>
 double overlap_integral(const typename Kind<Mesh>::Result& s, const std::vector<double>& v, int order) {
-  double sum = 0.0;
+  detail::CompensatedSum sum;
   for (const auto& p : s.pieces) {
     const double m = Kind<Mesh>::measure_of(p);
     if (order == 0) {
-      sum += v[static_cast<std::size_t>(p.source)] * m;
+      sum.add(v[static_cast<std::size_t>(p.source)] * m);
       continue;
     }
     if (!(m > 0.0)) continue;
@@ -144,9 +147,9 @@ double overlap_integral(const typename Kind<Mesh>::Result& s, const std::vector<
       rest -= l[k];
       value += l[k] * v[static_cast<std::size_t>(n[k + 1])];
     }
-    sum += m * (rest * v[static_cast<std::size_t>(n[0])] + value);
+    sum.add(m * (rest * v[static_cast<std::size_t>(n[0])] + value));
   }
-  return sum;
+  return sum.value();
 }
 
 // The supermesh's pieces as simplices, for ParaView: cell data "source", "target" and the
@@ -200,10 +203,31 @@ CandidateSearch parse_search(const std::string& s) {
   throw std::invalid_argument("tetia: --search must be front or rtree, not '" + s + "'");
 }
 
-std::string num(double v) {
+// A number for the JSON summary: JSON has no NaN or infinity, so a value that is not finite
+// is an error naming it (exit status 2: the input's coordinates or values overflow double
+// arithmetic), never "nan" in the output.
+std::string num(double v, const char* what) {
+  if (!std::isfinite(v))
+    throw std::runtime_error(std::string("tetia: the ") + what + " is not finite (" + (std::isnan(v) ? "NaN" : "infinite") +
+                             "): the input's coordinates or values overflow double arithmetic");
   char buf[40];
   std::snprintf(buf, sizeof buf, "%.17g", v);
   return buf;
+}
+
+// Fails before any work if `file` cannot be written: a directory, a missing directory, no
+// permission. A file that did not exist is removed again.
+void check_writable(const std::string& file, const char* option) {
+  if (file.empty()) return;
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(file, ec)) throw std::runtime_error("tetia: " + file + ": cannot write (" + option + "): is a directory");
+  const bool existed = fs::exists(file, ec);
+  std::FILE* f = std::fopen(file.c_str(), "ab");
+  if (f == nullptr)
+    throw std::runtime_error("tetia: " + file + ": cannot write (" + option + "): " + std::strerror(errno));
+  std::fclose(f);
+  if (!existed) fs::remove(file, ec);
 }
 
 int dimension_of(const AnyMesh& m) { return std::holds_alternative<TetMesh>(m) ? 3 : 2; }
@@ -278,8 +302,8 @@ int supermesh_command(const SupermeshCommand& cmd, const Mesh& source, const Mes
       "{\"dimension\": %d, \"source_cells\": %zu, \"target_cells\": %zu, \"candidates\": %zu, \"pairs\": %zu, "
       "\"source_%s\": %s, \"target_%s\": %s, \"intersection_%s\": %s, \"seconds\": %.6f}\n",
       K::dim, source.num_cells(), target.num_cells(), s.candidates, s.pieces.size(), m.c_str(),
-      num(K::total(source)).c_str(), m.c_str(), num(K::total(target)).c_str(), m.c_str(), num(K::total(s)).c_str(),
-      s.seconds);
+      num(K::total(source), "source total").c_str(), m.c_str(), num(K::total(target), "target total").c_str(),
+      m.c_str(), num(K::total(s), "intersection total").c_str(), s.seconds);
   return exit_ok;
 }
 
@@ -326,16 +350,22 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
   const double overlap_int = overlap_integral<Mesh>(s, values, cmd.order);
   const double conservation = std::abs(tgt_int - overlap_int) / std::max(std::abs(overlap_int), 1e-300);
   const std::string m = K::measure;
+  // Every number first (num() fails on one that is not finite), then one line of JSON.
+  const std::string totals[3] = {num(K::total(source), "source total"), num(K::total(target), "target total"),
+                                 num(K::total(s), "intersection total")};
+  const std::string integrals[3] = {num(src_int, "source integral"), num(overlap_int, "overlap integral"),
+                                    num(tgt_int, "target integral")};
+  const std::string conservation_text = num(conservation, "conservation error");
+  const std::string l2[2] = {f ? num(error, "L2 error") : "null", f ? num(relative, "relative L2 error") : "null"};
   std::printf(
       "{\"dimension\": %d, \"order\": %d, \"source_cells\": %zu, \"target_cells\": %zu, \"pairs\": %zu, "
       "\"source_%s\": %s, \"target_%s\": %s, \"intersection_%s\": %s, \"source_integral\": %s, "
       "\"overlap_integral\": %s, \"target_integral\": %s, "
-      "\"conservation_error\": %.3e, \"l2_error\": %s, \"relative_l2_error\": %s, \"cg_iterations\": %d, "
+      "\"conservation_error\": %s, \"l2_error\": %s, \"relative_l2_error\": %s, \"cg_iterations\": %d, "
       "\"seconds\": %.6f}\n",
-      K::dim, cmd.order, source.num_cells(), target.num_cells(), s.pieces.size(), m.c_str(),
-      num(K::total(source)).c_str(), m.c_str(), num(K::total(target)).c_str(), m.c_str(), num(K::total(s)).c_str(),
-      num(src_int).c_str(), num(overlap_int).c_str(), num(tgt_int).c_str(), conservation,
-      f ? num(error).c_str() : "null", f ? num(relative).c_str() : "null", report.iterations, s.seconds);
+      K::dim, cmd.order, source.num_cells(), target.num_cells(), s.pieces.size(), m.c_str(), totals[0].c_str(),
+      m.c_str(), totals[1].c_str(), m.c_str(), totals[2].c_str(), integrals[0].c_str(), integrals[1].c_str(),
+      integrals[2].c_str(), conservation_text.c_str(), l2[0].c_str(), l2[1].c_str(), report.iterations, s.seconds);
   return exit_ok;
 }
 
@@ -384,6 +414,7 @@ void demo_case(const std::string& name, const Mesh& a, const Mesh& b, bool same_
 
 int run_supermesh(const SupermeshCommand& cmd) {
   return guarded([&] {
+    check_writable(cmd.output, "-o");
     const auto [source, target] = load_pair(cmd.source, cmd.target);
     if (const auto* s3 = std::get_if<TetMesh>(&source)) return supermesh_command(cmd, *s3, std::get<TetMesh>(target));
     return supermesh_command(cmd, std::get<TriMesh>(source), std::get<TriMesh>(target));
@@ -395,6 +426,8 @@ int run_remap(const RemapCommand& cmd) {
     if (cmd.order != 0 && cmd.order != 1) throw std::invalid_argument("tetia: --order must be 0 or 1");
     if (cmd.field.empty() == cmd.expr.empty())
       throw std::invalid_argument("tetia: give exactly one of --field NAME and --expr EXPRESSION");
+    check_writable(cmd.output, "-o");
+    check_writable(cmd.matrix, "--matrix");
     const auto [source, target] = load_pair(cmd.source, cmd.target);
     if (const auto* s3 = std::get_if<TetMesh>(&source)) return remap_command(cmd, *s3, std::get<TetMesh>(target));
     return remap_command(cmd, std::get<TriMesh>(source), std::get<TriMesh>(target));

@@ -6,20 +6,22 @@
 #include <string>
 #include <unordered_map>
 
+#include "compensated_sum.hpp"
 #include "dimension.hpp"
 
 namespace tetia {
 
+// Compensated (compensated_sum.hpp): exact to about eps, whatever the number of cells.
 double TetMesh::total_volume() const {
-  double s = 0.0;
-  for (const double v : volumes) s += v;
-  return s;
+  detail::CompensatedSum s;
+  for (const double v : volumes) s.add(v);
+  return s.value();
 }
 
 double TriMesh::total_area() const {
-  double s = 0.0;
-  for (const double a : areas) s += a;
-  return s;
+  detail::CompensatedSum s;
+  for (const double a : areas) s.add(a);
+  return s.value();
 }
 
 namespace {

@@ -23,6 +23,7 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCore>
 
+#include "compensated_sum.hpp"
 #include "dimension.hpp"
 #include "mixed_mass.hpp"
 
@@ -289,9 +290,9 @@ template <class Mesh>
 double int_p0(const Mesh& mesh, std::span<const double> values) {
   check_size(values.size(), mesh.num_cells(), "integral_p0", "cell");
   const auto& measures = detail::Dim<Mesh>::measures(mesh);
-  double sum = 0.0;
-  for (std::size_t c = 0; c < mesh.num_cells(); ++c) sum += values[c] * measures[c];
-  return sum;
+  detail::CompensatedSum sum;
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c) sum.add(values[c] * measures[c]);
+  return sum.value();
 }
 
 template <class Mesh>
@@ -299,14 +300,14 @@ double int_p1(const Mesh& mesh, std::span<const double> values) {
   using Dm = detail::Dim<Mesh>;
   check_size(values.size(), mesh.num_nodes(), "integral_p1", "node");
   const auto& measures = Dm::measures(mesh);
-  double sum = 0.0;
+  detail::CompensatedSum sum;
   for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
     const auto& v = mesh.cells[c];
     double nodal = values[idx(v[0])];
     for (std::size_t k = 1; k < Dm::nv; ++k) nodal += values[idx(v[k])];
-    sum += (1.0 / Dm::nv) * measures[c] * nodal;
+    sum.add((1.0 / Dm::nv) * measures[c] * nodal);
   }
-  return sum;
+  return sum.value();
 }
 
 template <class Mesh, class F>

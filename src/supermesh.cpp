@@ -115,6 +115,7 @@
 #include "dimension.hpp"
 #include "kernel/one_to_many.hpp"
 #include "mixed_mass.hpp"
+#include "compensated_sum.hpp"
 #include "morton.hpp"
 #include "tetia/tet_intersection.hpp"
 #include "tetia/tri_intersection.hpp"
@@ -123,18 +124,13 @@ namespace tetia {
 
 namespace {
 
-// Neumaier's compensated sum of the pieces' measures: totals are compared with mesh volumes
-// (areas) to 1e-13.
+// The pieces' measures summed with compensation (compensated_sum.hpp): totals are compared
+// with mesh volumes (areas) to 1e-13.
 template <class Piece, class Measure>
 double compensated_total(const std::vector<Piece>& pieces, Measure&& measure) {
-  double sum = 0.0, comp = 0.0;
-  for (const auto& p : pieces) {
-    const double v = measure(p);
-    const double t = sum + v;
-    comp += std::abs(sum) >= std::abs(v) ? (sum - t) + v : (v - t) + sum;
-    sum = t;
-  }
-  return sum + comp;
+  detail::CompensatedSum sum;
+  for (const auto& p : pieces) sum.add(measure(p));
+  return sum.value();
 }
 
 }  // namespace

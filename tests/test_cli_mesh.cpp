@@ -130,6 +130,46 @@ TEST_F(CliMeshTest, BadInputGivesAClearErrorAndStatus2) {
   EXPECT_EQ(r.status, 2);
 }
 
+// Issue 16's habits: a broken file names its line and tag; an output path that cannot be
+// written fails before the work (the missing directory is reported, not the meshes); --threads
+// is validated; a summary that would not be finite is an error, never "nan" in the JSON.
+TEST_F(CliMeshTest, ErrorsComeEarlyNameTheLineAndNeverPrintNan) {
+  const std::string dup = (dir_ / "dup.msh").string();
+  std::ofstream(dup) << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n"
+                        "3 0 0 1\n$EndNodes\n$Elements\n1\n1 4 0 1 2 3 4\n$EndElements\n";
+  Result r = run("supermesh " + dup + " " + b_);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find(dup + ": node tag 3 given twice, differently (line 8 and line 9)"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "");
+
+  const std::string nowhere = (dir_ / "no" / "such" / "dir" / "s.vtu").string();
+  r = run("supermesh " + (dir_ / "missing.msh").string() + " " + b_ + " -o " + nowhere);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find(nowhere + ": cannot write (-o)"), std::string::npos) << r.err;  // before the meshes are read
+  r = run("remap " + a_ + " " + b_ + " --expr x --order 1 --matrix " + nowhere);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find(nowhere + ": cannot write (--matrix)"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "no"));
+
+  for (const char* bad : {"-3", "100000", "two"}) {
+    r = run(std::string("supermesh ") + a_ + " " + b_ + " --threads " + bad);
+    EXPECT_EQ(r.status, 2) << bad;
+    EXPECT_NE(r.err.find("--threads"), std::string::npos) << r.err;
+  }
+
+  // Coordinates of 1e300: every number is finite in the file, the volumes overflow.
+  const std::string huge = (dir_ / "huge.msh").string();
+  std::ofstream(huge) << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1e300 0 0\n3 0 1e300 0\n"
+                         "4 0 0 1e300\n$EndNodes\n$Elements\n1\n1 4 0 1 2 3 4\n$EndElements\n";
+  for (const std::string& cmd : {"supermesh " + huge + " " + huge, "remap " + huge + " " + huge + " --expr x --order 1"}) {
+    r = run(cmd);
+    EXPECT_EQ(r.status, 2) << cmd;
+    EXPECT_EQ(r.out.find("nan"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("inf"), std::string::npos) << r.out;
+    EXPECT_NE(r.err.find("is not finite"), std::string::npos) << r.err;
+  }
+}
+
 TEST_F(CliMeshTest, SharedLibsupermeshCubes) {
   const fs::path shared = fs::path(TETIA_SHARED_DIR) / "extdata";
   if (!fs::exists(shared / "lsm_cube.1.msh")) GTEST_SKIP() << "needs ../shared/extdata (absent)";

@@ -17,11 +17,13 @@
 #include <fstream>
 #include <limits>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "../fuzz/inputs.hpp"
 #include "../fuzz/kernel_contract.hpp"
+#include "tetia/io.hpp"
 
 namespace {
 
@@ -49,6 +51,26 @@ void replay_target(const std::string& target) {
 
 TEST(FuzzRegressions, TetKernel) { replay_target<kTetCoords>("fuzz_tet_kernel"); }
 TEST(FuzzRegressions, TriKernel) { replay_target<kTriCoords>("fuzz_tri_kernel"); }
+
+// The reader's seeds (valid files, each must read) and its findings (each must read or fail
+// with a message naming the file), through the public reader.
+TEST(FuzzRegressions, MshReader) {
+  int seeds = 0;
+  for (const char* kind : {"corpus", "regressions"}) {
+    for (const fs::path& file : input_files(kFuzzDir / kind / "fuzz_msh_reader")) {
+      SCOPED_TRACE(file.string());
+      try {
+        const tetia::AnyMesh m = tetia::read_any_mesh(file);
+        (void)m;
+      } catch (const std::runtime_error& e) {
+        EXPECT_NE(kind, std::string("corpus")) << e.what();
+        EXPECT_EQ(std::string(e.what()).rfind("tetia: " + file.string() + ": ", 0), 0u) << e.what();
+      }
+      seeds += kind == std::string("corpus");
+    }
+  }
+  EXPECT_GE(seeds, 4) << "no seed files under " << (kFuzzDir / "corpus" / "fuzz_msh_reader");
+}
 
 TEST(FuzzHarness, ReadsTextAndRawFiles) {
   const fs::path dir = fs::path(::testing::TempDir()) / "tetia_fuzz_inputs";
