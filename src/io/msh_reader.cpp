@@ -43,6 +43,23 @@ bool is_higher_order_triangle(int type) { return type == 9 || (type >= 20 && typ
 
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 
+// What a number is, for an error message: "node 17: coordinate". Held as views and made into a
+// string only when an error is reported, so that reading a node or an element builds no string.
+struct What {
+  std::string_view text;
+  std::uint64_t tag = 0;  // 0: none
+  std::string_view suffix;
+  What(const char* t) : text(t) {}              // NOLINT: implicit on purpose
+  What(const std::string& t) : text(t) {}       // NOLINT
+  What(std::string_view t, std::uint64_t g, std::string_view s) : text(t), tag(g), suffix(s) {}
+  std::string str() const {
+    std::string out(text);
+    if (tag != 0) out += ' ' + std::to_string(tag);
+    out += suffix;
+    return out;
+  }
+};
+
 class Parser {
  public:
   Parser(std::string_view bytes, const std::string& name, MshFile& out) : b_(bytes), name_(name), out_(out) {
@@ -145,25 +162,25 @@ class Parser {
   }
 
   template <class Int>
-  Int to_int(std::string_view s, const std::string& what) const {
+  Int to_int(std::string_view s, const What& what) const {
     Int v{};
     const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
     if (r.ec != std::errc() || r.ptr != s.data() + s.size())
-      fail(line_at_, what + ": \"" + shorten(s) + "\" is not " +
+      fail(line_at_, what.str() + ": \"" + shorten(s) + "\" is not " +
                          (std::is_signed_v<Int> ? "an integer" : "a non-negative integer") + " in range");
     return v;
   }
-  double to_double(std::string_view s, const std::string& what) const {
+  double to_double(std::string_view s, const What& what) const {
     double v = 0.0;
     const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
     if (r.ec != std::errc() || r.ptr != s.data() + s.size())
-      fail(line_at_, what + ": \"" + shorten(s) + "\" is not a number in range");
-    if (!std::isfinite(v)) fail(line_at_, what + ": \"" + shorten(s) + "\" is not finite");
+      fail(line_at_, what.str() + ": \"" + shorten(s) + "\" is not a number in range");
+    if (!std::isfinite(v)) fail(line_at_, what.str() + ": \"" + shorten(s) + "\" is not finite");
     return v;
   }
-  std::uint64_t to_tag(std::string_view s, const std::string& what) const {
+  std::uint64_t to_tag(std::string_view s, const What& what) const {
     const auto v = to_int<std::uint64_t>(s, what);
-    if (v == 0) fail(line_at_, what + ": tag 0 (tags start at 1)");
+    if (v == 0) fail(line_at_, what.str() + ": tag 0 (tags start at 1)");
     return v;
   }
 
@@ -186,31 +203,31 @@ class Parser {
   // --- binary records -------------------------------------------------------------------------
 
   template <class T>
-  T raw(const char* what) {
+  T raw(const What& what) {
     if (pos_ > b_.size() || b_.size() - pos_ < sizeof(T))
-      fail(pos_, std::string("unexpected end of file (in ") + what + ")");
+      fail(pos_, "unexpected end of file (in " + what.str() + ")");
     T v;
     std::memcpy(&v, b_.data() + pos_, sizeof(T));
     pos_ += sizeof(T);
     return v;
   }
-  std::uint64_t raw_tag(bool size_t_tag, const std::string& what) {
+  std::uint64_t raw_tag(bool size_t_tag, const What& what) {
     const std::size_t at = pos_;
     std::uint64_t v = 0;
     if (size_t_tag) {
-      v = raw<std::uint64_t>(what.c_str());
+      v = raw<std::uint64_t>(what);
     } else {
-      const std::int32_t t = raw<std::int32_t>(what.c_str());
-      if (t < 0) fail(at, what + ": negative tag " + std::to_string(t));
+      const std::int32_t t = raw<std::int32_t>(what);
+      if (t < 0) fail(at, what.str() + ": negative tag " + std::to_string(t));
       v = static_cast<std::uint64_t>(t);
     }
-    if (v == 0) fail(at, what + ": tag 0 (tags start at 1)");
+    if (v == 0) fail(at, what.str() + ": tag 0 (tags start at 1)");
     return v;
   }
-  double raw_double(const std::string& what) {
+  double raw_double(const What& what) {
     const std::size_t at = pos_;
-    const double v = raw<double>(what.c_str());
-    if (!std::isfinite(v)) fail(at, what + ": not finite");
+    const double v = raw<double>(what);
+    if (!std::isfinite(v)) fail(at, what.str() + ": not finite");
     return v;
   }
   std::int32_t raw_int(const char* what) { return raw<std::int32_t>(what); }
@@ -300,12 +317,12 @@ class Parser {
       if (out_.binary) {
         const std::size_t at = pos_;
         const std::uint64_t tag = raw_tag(false, "node");
-        for (double& c : p) c = raw_double("node " + std::to_string(tag) + ": coordinate");
+        for (double& c : p) c = raw_double(What("node", tag, ": coordinate"));
         add_node(tag, p, at);
       } else {
         line_of(tk, 4, "a node line (tag x y z)");
         const std::uint64_t tag = to_tag(tk.t[0], "node");
-        for (int k = 0; k < 3; ++k) p[k] = to_double(tk.t[k + 1], "node " + std::to_string(tag) + ": coordinate");
+        for (int k = 0; k < 3; ++k) p[k] = to_double(tk.t[k + 1], What("node", tag, ": coordinate"));
         add_node(tag, p, line_at_);
       }
     }
@@ -371,7 +388,7 @@ class Parser {
       }
       for (std::uint64_t i = 0; i < count; ++i) {
         double p[3 + 3];
-        const std::string what = "node " + std::to_string(tags[i]) + ": coordinate";
+        const What what("node", tags[i], ": coordinate");
         if (out_.binary) {
           for (int k = 0; k < per_node; ++k) p[k] = raw_double(what);
         } else {
@@ -435,7 +452,7 @@ class Parser {
           const std::size_t rec = pos_;
           const std::uint64_t tag = raw_tag(false, "element");
           pos_ += 4 * static_cast<std::size_t>(ntags);  // fits: check_count
-          for (int k = 0; k < nv; ++k) nodes[k] = raw_tag(false, element_what(tag) + ": node");
+          for (int k = 0; k < nv; ++k) nodes[k] = raw_tag(false, What("element", tag, ": node"));
           add_element(type, tag, nodes, rec);
         }
         read += static_cast<std::uint64_t>(count);
@@ -446,8 +463,8 @@ class Parser {
       split(next_line("an element line"), tk, "an element line");
       if (tk.n < 3) fail(line_at_, "an element line needs at least tag, type and number of tags");
       const std::uint64_t tag = to_tag(tk.t[0], "element");
-      const int type = to_int<int>(tk.t[1], element_what(tag) + ": type");
-      const int ntags = to_int<int>(tk.t[2], element_what(tag) + ": number of tags");
+      const int type = to_int<int>(tk.t[1], What("element", tag, ": type"));
+      const int ntags = to_int<int>(tk.t[2], What("element", tag, ": number of tags"));
       const int nv = msh_nodes_per_element(type);
       if (ntags < 0 || ntags > tk.n - 3) fail(line_at_, element_what(tag) + ": more tags declared than given");
       if (nv == 0) {  // unknown type: the line says how long it is
@@ -457,7 +474,7 @@ class Parser {
       if (tk.n != 3 + ntags + nv)
         fail(line_at_, element_what(tag) + ": type " + std::to_string(type) + " has " + std::to_string(nv) +
                            " nodes, the line gives " + std::to_string(tk.n - 3 - ntags));
-      for (int k = 0; k < nv; ++k) nodes[k] = to_tag(tk.t[3 + ntags + k], element_what(tag) + ": node");
+      for (int k = 0; k < nv; ++k) nodes[k] = to_tag(tk.t[3 + ntags + k], What("element", tag, ": node"));
       add_element(type, tag, nodes, line_at_);
     }
   }
@@ -507,7 +524,7 @@ class Parser {
         for (std::uint64_t e = 0; e < count; ++e) {
           const std::size_t rec = pos_;
           const std::uint64_t tag = raw_tag(true, "element");
-          for (int k = 0; k < nv; ++k) nodes[k] = raw_tag(true, element_what(tag) + ": node");
+          for (int k = 0; k < nv; ++k) nodes[k] = raw_tag(true, What("element", tag, ": node"));
           add_element(type, tag, nodes, rec);
         }
         continue;
@@ -524,7 +541,7 @@ class Parser {
         if (tk.n != 1 + nv)
           fail(line_at_, element_what(tag) + ": type " + std::to_string(type) + " has " + std::to_string(nv) +
                              " nodes, the line gives " + std::to_string(tk.n - 1));
-        for (int k = 0; k < nv; ++k) nodes[k] = to_tag(tk.t[1 + k], element_what(tag) + ": node");
+        for (int k = 0; k < nv; ++k) nodes[k] = to_tag(tk.t[1 + k], What("element", tag, ": node"));
         add_element(type, tag, nodes, line_at_);
       }
     }
@@ -599,20 +616,21 @@ class Parser {
     d.where.reserve(n);
     d.values.reserve(n * nc);
     const char* kind = on_elements ? "element" : "node";
+    const std::string field_kind = field + ": " + kind, value_at = field + ": the value at " + kind;
     for (std::uint64_t i = 0; i < n; ++i) {
       if (out_.binary) {
         d.where.push_back(pos_);
-        const std::uint64_t tag = raw_tag(false, field + ": " + kind);
+        const std::uint64_t tag = raw_tag(false, field_kind);
         d.tags.push_back(tag);
         for (std::size_t k = 0; k < nc; ++k)
-          d.values.push_back(raw_double(field + ": the value at " + kind + " " + std::to_string(tag)));
+          d.values.push_back(raw_double(What(value_at, tag, "")));
       } else {
         line_of(tk, 1 + d.components, "a data line (tag and values)");
         d.where.push_back(line_at_);
-        const std::uint64_t tag = to_tag(tk.t[0], field + ": " + kind);
+        const std::uint64_t tag = to_tag(tk.t[0], field_kind);
         d.tags.push_back(tag);
         for (std::size_t k = 0; k < nc; ++k)
-          d.values.push_back(to_double(tk.t[1 + k], field + ": the value at " + kind + " " + std::to_string(tag)));
+          d.values.push_back(to_double(tk.t[1 + k], What(value_at, tag, "")));
       }
     }
     (void)at;
