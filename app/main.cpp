@@ -98,7 +98,10 @@ int main(int argc, char** argv) {
       app.add_subcommand("supermesh", "Intersect two tetrahedral meshes, or two triangular ones (.msh files)");
   sm_cmd->add_option("source", sm.source, "Source mesh (.msh 2.2 or 4.1, ASCII or binary)")->required();
   sm_cmd->add_option("target", sm.target, "Target mesh")->required();
-  sm_cmd->add_option("-o,--output", sm.output, "Write the supermesh (its tetrahedralization) as VTU");
+  sm_cmd->add_option("-o,--output", sm.output,
+                     "Write the supermesh as VTU: its pieces as simplices, with cell data piece, source and target "
+                     "(the files' cell tags) and simplex_volume (simplex_area)");
+  sm_cmd->add_flag("--ascii", sm.ascii, "Write the VTU as text (default: binary, zlib-compressed)");
   sm_cmd->add_option("--threads", sm.threads, "OpenMP threads (0: default)")
       ->check(CLI::Range(0, 4096))
       ->capture_default_str();
@@ -122,7 +125,9 @@ int main(int argc, char** argv) {
   rm_cmd->add_option("--order", rm.order, "0: cell averages (P0); 1: continuous nodal (P1)")
       ->check(CLI::IsMember({0, 1}))
       ->capture_default_str();
-  rm_cmd->add_option("-o,--output", rm.output, "Write the target mesh with the remapped field as VTU");
+  rm_cmd->add_option("-o,--output", rm.output,
+                     "Write the target mesh with the remapped field as VTU (node_id and cell_id: the file's tags)");
+  rm_cmd->add_flag("--ascii", rm.ascii, "Write the VTU as text (default: binary, zlib-compressed)");
   rm_cmd->add_option("--matrix", rm.matrix, "Write the coupling (mixed mass) matrix in Matrix Market format");
   rm_cmd->add_option("--threads", rm.threads, "OpenMP threads (0: default)")
       ->check(CLI::Range(0, 4096))

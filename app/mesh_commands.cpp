@@ -152,12 +152,18 @@ double overlap_integral(const typename Kind<Mesh>::Result& s, const std::vector<
   return sum.value();
 }
 
-// The supermesh's pieces as simplices, for ParaView: cell data "source", "target" and the
-// piece's volume (area).
+// The supermesh's pieces as simplices, for ParaView: Int64 cell data "piece" (the piece's
+// index), "source" and "target" (the file's tags of its two cells), and Float64
+// "simplex_volume" (area): each simplex's own measure, so that summing it over the file gives
+// the intersection's total (the piece's measure is the sum over its simplices).
 template <class Mesh>
-void write_supermesh_vtu(const std::string& file, const typename Kind<Mesh>::Result& s) {
+void write_supermesh_vtu(const std::string& file, const typename Kind<Mesh>::Result& s, VtuFormat format) {
   Mesh out;
-  std::vector<double> source, target, measure;
+  std::vector<std::int64_t> piece, source, target;
+  std::vector<double> measure;
+  const auto tag = [](const Mesh& m, std::int32_t c) {
+    return m.cell_tags.empty() ? std::int64_t{c} + 1 : m.cell_tags[static_cast<std::size_t>(c)];
+  };
   const auto add = [&](std::size_t k, const auto& simplex) {
     const auto base = static_cast<std::int32_t>(out.nodes.size());
     typename std::remove_reference_t<decltype(out.cells)>::value_type cell{};
@@ -166,9 +172,14 @@ void write_supermesh_vtu(const std::string& file, const typename Kind<Mesh>::Res
       cell[v] = base + static_cast<std::int32_t>(v);
     }
     out.cells.push_back(cell);
-    source.push_back(s.pieces[k].source);
-    target.push_back(s.pieces[k].target);
-    measure.push_back(Kind<Mesh>::measure_of(s.pieces[k]));
+    piece.push_back(static_cast<std::int64_t>(k));
+    source.push_back(tag(*s.source, s.pieces[k].source));
+    target.push_back(tag(*s.target, s.pieces[k].target));
+    if constexpr (Kind<Mesh>::dim == 3) {
+      measure.push_back(std::abs(signed_volume(simplex)));
+    } else {
+      measure.push_back(std::abs(signed_area(simplex)));
+    }
   };
   for (std::size_t k = 0; k < s.pieces.size(); ++k) {
     if constexpr (Kind<Mesh>::dim == 3) {
@@ -177,8 +188,10 @@ void write_supermesh_vtu(const std::string& file, const typename Kind<Mesh>::Res
       for (const Triangle& t : s.polygons[k].triangles()) add(k, t);
     }
   }
-  write_vtu(file, out,
-            {{"source", source}, {"target", target}, {std::string("piece_") + Kind<Mesh>::measure, measure}});
+  VtuOptions options;
+  options.format = format;
+  options.cell_ids = {{"piece", std::move(piece)}, {"source", std::move(source)}, {"target", std::move(target)}};
+  write_vtu(file, out, {{std::string("simplex_") + Kind<Mesh>::measure, measure}}, {}, options);
 }
 
 template <class Result>
@@ -295,7 +308,7 @@ int supermesh_command(const SupermeshCommand& cmd, const Mesh& source, const Mes
   const auto s = supermesh(source, target, options);
   if (!cmd.output.empty()) {
     progress("writing " + cmd.output);
-    write_supermesh_vtu<Mesh>(cmd.output, s);
+    write_supermesh_vtu<Mesh>(cmd.output, s, cmd.ascii ? VtuFormat::ascii : VtuFormat::binary);
   }
   const std::string m = K::measure;
   std::printf(
@@ -342,7 +355,11 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
     const double norm = l2_norm(target, f);
     relative = norm > 0.0 ? error / norm : error;
   }
-  if (!cmd.output.empty()) write_vtu(cmd.output, target, cell_data, point_data);
+  if (!cmd.output.empty()) {
+    VtuOptions vtu;
+    vtu.format = cmd.ascii ? VtuFormat::ascii : VtuFormat::binary;
+    write_vtu(cmd.output, target, cell_data, point_data, vtu);
+  }
   // Conservation: the target integral against the source integral over the overlap (the
   // whole source integral when the domains coincide).
   const double src_int = integral(source, values, cmd.order);

@@ -13,6 +13,7 @@ struct SupermeshCommand {
   std::string source, target, output;  // output: VTU of the supermesh's tetrahedralization
   int threads = 0;
   std::string search = "front";
+  bool ascii = false;  // the VTU as text instead of compressed binary
 };
 
 struct RemapCommand {
@@ -20,6 +21,7 @@ struct RemapCommand {
   std::string field, expr;
   int order = 0;
   int threads = 0;
+  bool ascii = false;  // the VTU as text instead of compressed binary
 };
 
 struct DemoCommand {

@@ -22,11 +22,13 @@ packages=(
   libcgal-dev       # CGAL: the comparison in bench/bench_cgal
   libboost-dev      # Boost.Geometry R-tree (supermesh search); CGAL's headers need it too
   libeigen3-dev     # sparse matrices and conjugate gradients (P1 remap)
-  libgmsh-dev       # reading and generating meshes (Gmsh C++ API)
+  libgmsh-dev       # generating meshes (Gmsh C++ API), and the reference reader of the tests
+  zlib1g-dev        # compressed binary VTU output
   libmuparser-dev   # analytic fields in `tetia remap --expr`
   python3           # scripts and plots
   python3-matplotlib
   python3-numpy
+  python3-vtk9      # VTK's own reader checks the VTU files in the tests (tests/vtu_check.py)
 )
 
 names=("${packages[@]}")

@@ -12,6 +12,7 @@
 #include "tetia/io.hpp"
 
 #include <dlfcn.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <array>
@@ -31,6 +32,7 @@
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <type_traits>
 #include <unordered_map>
 #include <unordered_set>
 #include <utility>
@@ -188,11 +190,10 @@ std::string xml_escape(const std::string& s) {
   return out;
 }
 
-// Gmsh's $NodeData / $ElementData block for one scalar field; tags 1..n.
-void write_msh_data(TextOut& out, const char* section, const Field& f) {
+// Gmsh's $NodeData / $ElementData block for one scalar field, value i at tag tags[i].
+void write_msh_data(TextOut& out, const char* section, const Field& f, const std::vector<std::int64_t>& tags) {
   out << '$' << section << "\n1\n\"" << f.name << "\"\n1\n0\n3\n0\n1\n" << f.values.size() << '\n';
-  std::size_t tag = 1;
-  for (const double v : f.values) out << tag++ << ' ' << v << '\n';
+  for (std::size_t i = 0; i < f.values.size(); ++i) out << tags[i] << ' ' << f.values[i] << '\n';
   out << "$End" << section << '\n';
 }
 
@@ -227,57 +228,133 @@ Mesh read(const std::filesystem::path& file, MeshReadInfo* info) {
   return finish(detail::extract_msh<Mesh>(f.msh, name), name, views, info);
 }
 
-// VTK XML UnstructuredGrid (format 0.1), ASCII: Float64 points (z = 0 for triangles) and
-// fields, Int64 connectivity and offsets, cell type 10 (VTK_TETRA) or 5 (VTK_TRIANGLE). Numbers
-// as the shortest text that reads back to the same double; a non-finite value is written nan /
-// inf / -inf (which not every reader takes). Everything is validated before the file is opened.
+// VTK XML UnstructuredGrid (format 1.0). Float64 points (z = 0 for triangles) and fields, Int64
+// connectivity, offsets and ids, UInt8 cell types 10 (VTK_TETRA) or 5 (VTK_TRIANGLE); point data
+// "node_id" and cell data "cell_id", the mesh's tags (1, 2, ... without them), before the
+// caller's arrays. Binary: every array in the appended section, raw, compressed with zlib in
+// blocks of 32 KiB with VTK's UInt64 header (number of blocks, block size, size of a partial
+// last block or 0, compressed size of each block); ASCII: every number as the shortest text that
+// reads back to the same double, a non-finite value as nan / inf / -inf. Everything is
+// validated before the file is opened.
+class VtuArrays {
+ public:
+  explicit VtuArrays(VtuFormat format) : binary_(format == VtuFormat::binary) {}
+
+  // The DataArray element of one array, its data appended (binary) or inline (ASCII).
+  template <class T>
+  std::string array(const char* type, const std::string& name, int components, const std::vector<T>& v,
+                    std::size_t per_line = 1) {
+    std::string head = "<DataArray type=\"" + std::string(type) + "\"";
+    if (!name.empty()) head += " Name=\"" + xml_escape(name) + "\"";
+    if (components > 1) head += " NumberOfComponents=\"" + std::to_string(components) + "\"";
+    if (binary_) {
+      head += " format=\"appended\" offset=\"" + std::to_string(appended_.size()) + "\"/>\n";
+      append_compressed(reinterpret_cast<const unsigned char*>(v.data()), v.size() * sizeof(T));
+      return head;
+    }
+    std::string out = head + " format=\"ascii\">\n";
+    char tmp[32];
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const auto r = std::to_chars(tmp, tmp + sizeof tmp, static_cast<std::conditional_t<std::is_same_v<T, std::uint8_t>, int, T>>(v[i]));
+      out.append(tmp, static_cast<std::size_t>(r.ptr - tmp));
+      out += (i + 1) % per_line == 0 || i + 1 == v.size() ? '\n' : ' ';
+    }
+    return out + "</DataArray>\n";
+  }
+  const std::string& appended() const { return appended_; }
+
+ private:
+  static constexpr std::size_t kBlock = 1 << 15;
+
+  void append_compressed(const unsigned char* data, std::size_t bytes) {
+    const std::size_t blocks = (bytes + kBlock - 1) / kBlock;
+    std::vector<std::uint64_t> header(3 + blocks);
+    header[0] = blocks;
+    header[1] = kBlock;
+    header[2] = bytes % kBlock;
+    std::string body;
+    std::vector<unsigned char> out(compressBound(kBlock));
+    for (std::size_t k = 0; k < blocks; ++k) {
+      const std::size_t n = std::min(kBlock, bytes - k * kBlock);
+      uLongf got = static_cast<uLongf>(out.size());
+      // Level 1: about as small as the default on these arrays, several times faster.
+      if (compress2(out.data(), &got, data + k * kBlock, static_cast<uLong>(n), 1) != Z_OK)
+        throw std::runtime_error("tetia: zlib compression failed");
+      header[3 + k] = got;
+      body.append(reinterpret_cast<const char*>(out.data()), got);
+    }
+    appended_.append(reinterpret_cast<const char*>(header.data()), header.size() * sizeof(std::uint64_t));
+    appended_ += body;
+  }
+
+  bool binary_;
+  std::string appended_;
+};
+
+std::vector<std::int64_t> ids_or_positions(const std::vector<std::int64_t>& tags, std::size_t n) {
+  if (!tags.empty()) return tags;
+  std::vector<std::int64_t> ids(n);
+  std::iota(ids.begin(), ids.end(), std::int64_t{1});
+  return ids;
+}
+
 template <class Mesh>
 void vtu(const std::filesystem::path& file, const Mesh& mesh, const std::vector<Field>& cell_data,
-         const std::vector<Field>& point_data) {
+         const std::vector<Field>& point_data, const VtuOptions& options) {
   using Dm = detail::Dim<Mesh>;
   const std::string name = file.string();
   check_mesh(name, mesh);
   check_fields(name, cell_data, mesh.cells.size());
   check_fields(name, point_data, mesh.nodes.size());
-  TextOut out(file);
-  out << "<?xml version=\"1.0\"?>\n"
-         "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-         "  <UnstructuredGrid>\n"
-      << "    <Piece NumberOfPoints=\"" << mesh.nodes.size() << "\" NumberOfCells=\"" << mesh.cells.size()
-      << "\">\n";
-  const auto data_section = [&](const char* tag, const std::vector<Field>& fields) {
-    if (fields.empty()) return;
-    out << "      <" << tag << " Scalars=\"" << xml_escape(fields.front().name) << "\">\n";
-    for (const auto& f : fields) {
-      out << "        <DataArray type=\"Float64\" Name=\"" << xml_escape(f.name) << "\" format=\"ascii\">\n";
-      for (const double v : f.values) out << v << '\n';
-      out << "        </DataArray>\n";
-    }
-    out << "      </" << tag << ">\n";
+  for (const auto& ids : {std::pair{&options.cell_ids, mesh.cells.size()}, std::pair{&options.point_ids, mesh.nodes.size()}})
+    for (const IdField& f : *ids.first)
+      if (f.values.size() != ids.second)
+        fail(name, "id field " + f.name + " has " + std::to_string(f.values.size()) + " values, expected " +
+                       std::to_string(ids.second));
+  if (!mesh.node_tags.empty() && mesh.node_tags.size() != mesh.nodes.size()) fail(name, "node tags do not match the nodes");
+  if (!mesh.cell_tags.empty() && mesh.cell_tags.size() != mesh.cells.size()) fail(name, "cell tags do not match the cells");
+  VtuArrays arrays(options.format);
+  std::string xml;
+  const auto data_section = [&](const char* tag, const char* id_name, const std::vector<std::int64_t>& ids,
+                                const std::vector<IdField>& more_ids, const std::vector<Field>& fields) {
+    xml += "      <" + std::string(tag) + (fields.empty() ? "" : " Scalars=\"" + xml_escape(fields.front().name) + "\"") + ">\n";
+    xml += "        " + arrays.array("Int64", id_name, 1, ids);
+    for (const auto& f : more_ids) xml += "        " + arrays.array("Int64", f.name, 1, f.values);
+    for (const auto& f : fields) xml += "        " + arrays.array("Float64", f.name, 1, f.values);
+    xml += "      </" + std::string(tag) + ">\n";
   };
-  data_section("PointData", point_data);
-  data_section("CellData", cell_data);
-  out << "      <Points>\n        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (const auto& p : mesh.nodes) {
-    if constexpr (Dm::d == 3) {
-      out << p.x << ' ' << p.y << ' ' << p.z << '\n';
-    } else {
-      out << p.x << ' ' << p.y << " 0\n";
+  data_section("PointData", "node_id", ids_or_positions(mesh.node_tags, mesh.nodes.size()), options.point_ids, point_data);
+  data_section("CellData", "cell_id", ids_or_positions(mesh.cell_tags, mesh.cells.size()), options.cell_ids, cell_data);
+  {
+    std::vector<double> xyz;
+    xyz.reserve(3 * mesh.nodes.size());
+    for (const auto& p : mesh.nodes) {
+      xyz.push_back(Dm::coord(p, 0));
+      xyz.push_back(Dm::coord(p, 1));
+      xyz.push_back(Dm::d == 3 ? Dm::coord(p, Dm::d - 1) : 0.0);
     }
+    xml += "      <Points>\n        " + arrays.array("Float64", "", 3, xyz, 3) + "      </Points>\n";
   }
-  out << "        </DataArray>\n      </Points>\n      <Cells>\n"
-         "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
-  for (const auto& c : mesh.cells) {
-    out << c[0];
-    for (std::size_t k = 1; k < Dm::nv; ++k) out << ' ' << c[k];
-    out << '\n';
+  {
+    std::vector<std::int64_t> connectivity, offsets(mesh.cells.size());
+    connectivity.reserve(Dm::nv * mesh.cells.size());
+    for (const auto& c : mesh.cells)
+      for (const auto v : c) connectivity.push_back(v);
+    for (std::size_t c = 0; c < mesh.cells.size(); ++c) offsets[c] = static_cast<std::int64_t>(Dm::nv * (c + 1));
+    const std::vector<std::uint8_t> types(mesh.cells.size(), Dm::d == 3 ? 10 : 5);  // VTK_TETRA, VTK_TRIANGLE
+    xml += "      <Cells>\n        " + arrays.array("Int64", "connectivity", 1, connectivity, Dm::nv) + "        " +
+           arrays.array("Int64", "offsets", 1, offsets) + "        " + arrays.array("UInt8", "types", 1, types) +
+           "      </Cells>\n";
   }
-  out << "        </DataArray>\n        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-  for (std::size_t c = 1; c <= mesh.cells.size(); ++c) out << Dm::nv * c << '\n';
-  out << "        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-  const char* type = Dm::d == 3 ? "10\n" : "5\n";  // VTK_TETRA, VTK_TRIANGLE
-  for (std::size_t c = 0; c < mesh.cells.size(); ++c) out << type;
-  out << "        </DataArray>\n      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+  const bool binary = options.format == VtuFormat::binary;
+  TextOut out(file);
+  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+         "header_type=\"UInt64\""
+      << (binary ? " compressor=\"vtkZLibDataCompressor\"" : "") << ">\n  <UnstructuredGrid>\n"
+      << "    <Piece NumberOfPoints=\"" << mesh.nodes.size() << "\" NumberOfCells=\"" << mesh.cells.size() << "\">\n"
+      << xml << "    </Piece>\n  </UnstructuredGrid>\n";
+  if (binary) out << "  <AppendedData encoding=\"raw\">\n   _" << std::string_view(arrays.appended()) << "\n  </AppendedData>\n";
+  out << "</VTKFile>\n";
   out.close();
 }
 
@@ -301,12 +378,18 @@ void msh(const std::filesystem::path& file, const Mesh& mesh, const std::vector<
       hi[d] = std::max(hi[d], Dm::coord(p, d));
     }
   const std::size_t n = mesh.nodes.size(), m = mesh.cells.size();
+  if (!mesh.node_tags.empty() && mesh.node_tags.size() != n) fail(name, "node tags do not match the nodes");
+  if (!mesh.cell_tags.empty() && mesh.cell_tags.size() != m) fail(name, "cell tags do not match the cells");
+  const std::vector<std::int64_t> node_tags = ids_or_positions(mesh.node_tags, n);
+  const std::vector<std::int64_t> cell_tags = ids_or_positions(mesh.cell_tags, m);
+  const auto [node_lo, node_hi] = std::minmax_element(node_tags.begin(), node_tags.end());
+  const auto [cell_lo, cell_hi] = std::minmax_element(cell_tags.begin(), cell_tags.end());
   TextOut out(file);
   out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
   out << "$Entities\n" << (Dm::d == 3 ? "0 0 0 1" : "0 0 1 0") << "\n1 " << lo[0] << ' ' << lo[1] << ' ' << lo[2]
       << ' ' << hi[0] << ' ' << hi[1] << ' ' << hi[2] << " 0 0\n$EndEntities\n";
-  out << "$Nodes\n1 " << n << " 1 " << n << '\n' << Dm::d << " 1 0 " << n << '\n';
-  for (std::size_t i = 1; i <= n; ++i) out << i << '\n';
+  out << "$Nodes\n1 " << n << ' ' << *node_lo << ' ' << *node_hi << '\n' << Dm::d << " 1 0 " << n << '\n';
+  for (const std::int64_t tag : node_tags) out << tag << '\n';
   for (const auto& p : mesh.nodes) {
     if constexpr (Dm::d == 3) {
       out << p.x << ' ' << p.y << ' ' << p.z << '\n';
@@ -314,17 +397,17 @@ void msh(const std::filesystem::path& file, const Mesh& mesh, const std::vector<
       out << p.x << ' ' << p.y << " 0\n";
     }
   }
-  out << "$EndNodes\n$Elements\n1 " << m << " 1 " << m << '\n'
+  out << "$EndNodes\n$Elements\n1 " << m << ' ' << *cell_lo << ' ' << *cell_hi << '\n'
       << Dm::d << " 1 " << GmshCell<Mesh>::type << ' ' << m << '\n';
   for (std::size_t c = 0; c < m; ++c) {
     const auto& v = mesh.cells[c];
-    out << c + 1;
-    for (const auto idx : v) out << ' ' << static_cast<std::int64_t>(idx) + 1;
+    out << cell_tags[c];
+    for (const auto idx : v) out << ' ' << node_tags[static_cast<std::size_t>(idx)];
     out << '\n';
   }
   out << "$EndElements\n";
-  for (const auto& f : point_data) write_msh_data(out, "NodeData", f);
-  for (const auto& f : cell_data) write_msh_data(out, "ElementData", f);
+  for (const auto& f : point_data) write_msh_data(out, "NodeData", f, node_tags);
+  for (const auto& f : cell_data) write_msh_data(out, "ElementData", f, cell_tags);
   out.close();
 }
 
@@ -366,12 +449,12 @@ std::vector<double> read_msh_field(const std::filesystem::path& file, const std:
 
 
 void write_vtu(const std::filesystem::path& file, const TetMesh& mesh, const std::vector<Field>& cell_data,
-               const std::vector<Field>& point_data) {
-  vtu(file, mesh, cell_data, point_data);
+               const std::vector<Field>& point_data, const VtuOptions& options) {
+  vtu(file, mesh, cell_data, point_data, options);
 }
 void write_vtu(const std::filesystem::path& file, const TriMesh& mesh, const std::vector<Field>& cell_data,
-               const std::vector<Field>& point_data) {
-  vtu(file, mesh, cell_data, point_data);
+               const std::vector<Field>& point_data, const VtuOptions& options) {
+  vtu(file, mesh, cell_data, point_data, options);
 }
 
 void write_msh(const std::filesystem::path& file, const TetMesh& mesh, const std::vector<Field>& cell_data,

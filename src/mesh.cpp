@@ -41,6 +41,19 @@ void finalize_mesh(Mesh& m, const std::string& name) {
   for (std::size_t i = 0; i < m.nodes.size(); ++i)
     for (int k = 0; k < D::d; ++k)
       if (!std::isfinite(D::coord(m.nodes[i], k))) fail(name, "node " + std::to_string(i) + ": non-finite coordinate");
+  const auto check_tags = [&](const std::vector<std::int64_t>& tags, std::size_t count, const char* what) {
+    if (tags.empty()) return;
+    if (tags.size() != count)
+      fail(name, std::string(what) + " tags: " + std::to_string(tags.size()) + " for " + std::to_string(count) + " " +
+                     what + "s");
+    std::vector<std::int64_t> sorted(tags);
+    std::sort(sorted.begin(), sorted.end());
+    if (sorted.front() < 1) fail(name, std::string(what) + " tag " + std::to_string(sorted.front()) + " is not positive");
+    const auto twice = std::adjacent_find(sorted.begin(), sorted.end());
+    if (twice != sorted.end()) fail(name, std::string(what) + " tag " + std::to_string(*twice) + " given twice");
+  };
+  check_tags(m.node_tags, m.nodes.size(), "node");
+  check_tags(m.cell_tags, m.cells.size(), "cell");
   auto& measures = D::measures(m);
   measures.assign(m.cells.size(), 0.0);
   m.reoriented_cells = m.flat_cells = 0;

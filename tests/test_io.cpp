@@ -26,6 +26,7 @@
 #include <thread>
 #include <vector>
 
+#include "support/vtu_check.hpp"
 #include "tetia/io.hpp"
 #include "tetia/mesh.hpp"
 
@@ -453,13 +454,72 @@ TEST_F(IoTest, WriteErrors) {
 // ---------------------------------------------------------------------------------------------
 // VTU
 
+// Both VTU formats as VTK itself reads them (tests/vtu_dump.py): points, cells, cell types, the
+// Int64 ids (the mesh's tags: those of the file it was read from) and the fields, exactly.
+TEST_F(IoTest, VtuReadByVtkInBothFormats) {
+  TetMesh m = kuhn({2, 2, 1});
+  for (std::size_t i = 0; i < m.num_nodes(); ++i) m.node_tags.push_back(1000 + 7 * static_cast<std::int64_t>(i));
+  for (std::size_t c = 0; c < m.num_cells(); ++c) m.cell_tags.push_back(5 + 3 * static_cast<std::int64_t>(c));
+  std::vector<double> on_cells(m.num_cells()), on_nodes(m.num_nodes());
+  for (std::size_t c = 0; c < on_cells.size(); ++c) on_cells[c] = std::sqrt(2.0 + static_cast<double>(c)) * 1e-300;
+  for (std::size_t i = 0; i < on_nodes.size(); ++i) on_nodes[i] = m.nodes[i].x / 3.0;
+  tetia::VtuOptions options;
+  options.cell_ids = {{"group", std::vector<std::int64_t>(m.num_cells(), (std::int64_t{1} << 40) + 1)}};
+  for (const auto format : {tetia::VtuFormat::binary, tetia::VtuFormat::ascii}) {
+    options.format = format;
+    const fs::path file = path(format == tetia::VtuFormat::binary ? "bin.vtu" : "ascii.vtu");
+    tetia::write_vtu(file, m, {{"density", on_cells}}, {{"phi", on_nodes}}, options);
+    if (format == tetia::VtuFormat::binary) EXPECT_NE(read_text(file).find("vtkZLibDataCompressor"), std::string::npos);
+    const tetia::testvtu::VtkView v = tetia::testvtu::read_with_vtk(file);
+    ASSERT_TRUE(v.ok) << v.error;
+    ASSERT_EQ(v.points.size(), m.num_nodes());
+    for (std::size_t i = 0; i < m.num_nodes(); ++i)
+      EXPECT_EQ(v.points[i], (std::array<double, 3>{m.nodes[i].x, m.nodes[i].y, m.nodes[i].z})) << i;
+    ASSERT_EQ(v.cells.size(), m.num_cells());
+    for (std::size_t c = 0; c < m.num_cells(); ++c) {
+      EXPECT_EQ(v.cell_types[c], 10);
+      EXPECT_EQ(v.cells[c], (std::vector<long long>(m.cells[c].begin(), m.cells[c].end()))) << c;
+    }
+    const auto as_doubles = [](const auto& xs) { return std::vector<double>(xs.begin(), xs.end()); };
+    ASSERT_NE(v.point_array("node_id"), nullptr);
+    EXPECT_EQ(v.point_array("node_id")->type, "long_long");
+    EXPECT_EQ(v.point_array("node_id")->values, as_doubles(m.node_tags));
+    ASSERT_NE(v.cell_array("cell_id"), nullptr);
+    EXPECT_EQ(v.cell_array("cell_id")->values, as_doubles(m.cell_tags));
+    ASSERT_NE(v.cell_array("group"), nullptr);
+    EXPECT_EQ(v.cell_array("group")->values, std::vector<double>(m.num_cells(), std::ldexp(1.0, 40) + 1));
+    ASSERT_NE(v.cell_array("density"), nullptr);
+    EXPECT_EQ(v.cell_array("density")->type, "double");
+    EXPECT_EQ(v.cell_array("density")->values, on_cells);
+    ASSERT_NE(v.point_array("phi"), nullptr);
+    EXPECT_EQ(v.point_array("phi")->values, on_nodes);
+  }
+}
+
+// A mesh read from a file keeps the file's tags, and write_msh writes them back.
+TEST_F(IoTest, TagsSurviveReadingAndWriting) {
+  const fs::path file = path("sparse_tags.msh");
+  write_text(file, kSparseMsh22);
+  const TetMesh m = tetia::read_mesh(file);
+  EXPECT_EQ(m.node_tags, (std::vector<std::int64_t>{10, 20, 30, 5000, 70000}));
+  EXPECT_EQ(m.cell_tags, (std::vector<std::int64_t>{4, 9}));
+  const fs::path again = path("again.msh");
+  tetia::write_msh(again, m);
+  const TetMesh back = tetia::read_mesh(again);
+  EXPECT_EQ(back.node_tags, m.node_tags);
+  EXPECT_EQ(back.cell_tags, m.cell_tags);
+  EXPECT_EQ(back.cells, m.cells);
+}
+
 TEST_F(IoTest, VtuIsWellFormed) {
   const TetMesh m = kuhn({2, 1, 1});
   std::vector<double> cell_values(m.num_cells()), point_values(m.num_nodes());
   for (std::size_t c = 0; c < m.num_cells(); ++c) cell_values[c] = 0.1 * static_cast<double>(c);
   for (std::size_t i = 0; i < m.num_nodes(); ++i) point_values[i] = m.nodes[i].x * 1e-20;
   const fs::path file = path("mesh.vtu");
-  tetia::write_vtu(file, m, {{"cell <id>", cell_values}}, {{"u & v", point_values}});
+  tetia::VtuOptions ascii;
+  ascii.format = tetia::VtuFormat::ascii;
+  tetia::write_vtu(file, m, {{"cell <id>", cell_values}}, {{"u & v", point_values}}, ascii);
   const std::string text = read_text(file);
   EXPECT_EQ(text.rfind("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\"", 0), 0u);
   EXPECT_NE(text.find("<Piece NumberOfPoints=\"" + std::to_string(m.num_nodes()) + "\" NumberOfCells=\"" +

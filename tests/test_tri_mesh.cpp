@@ -25,6 +25,7 @@
 #include <variant>
 #include <vector>
 
+#include "support/vtu_check.hpp"
 #include "tetia/io.hpp"
 #include "tetia/mesh.hpp"
 
@@ -445,23 +446,42 @@ TEST_F(TriIoTest, WriteErrorsAndVtu) {
   std::vector<double> cell_values(m.num_cells()), point_values(m.num_nodes());
   for (std::size_t c = 0; c < m.num_cells(); ++c) cell_values[c] = 0.1 * static_cast<double>(c);
   for (std::size_t i = 0; i < m.num_nodes(); ++i) point_values[i] = m.nodes[i].x;
-  tetia::write_vtu(vtu, m, {{"cell id", cell_values}}, {{"x", point_values}});
+  tetia::VtuOptions ascii;
+  ascii.format = tetia::VtuFormat::ascii;
+  tetia::write_vtu(vtu, m, {{"cell id", cell_values}}, {{"x", point_values}}, ascii);
   const std::string text = read_text(vtu);
   EXPECT_NE(text.find("<Piece NumberOfPoints=\"6\" NumberOfCells=\"4\">"), std::string::npos);
   // Points at z = 0, three nodes a cell, offsets 3, 6, ..., cell type 5 (VTK_TRIANGLE).
-  EXPECT_NE(text.find("0.1 -0.3 0\n"), std::string::npos);
+  EXPECT_NE(text.find("0.1 -0.3 0\n"), std::string::npos) << text;
   const auto section = [&](const std::string& name) {
     const auto start = text.find('>', text.find("Name=\"" + name + "\"")) + 1;
     return text.substr(start, text.find("</DataArray>", start) - start);
   };
-  EXPECT_EQ(section("offsets"), "\n3\n6\n9\n12\n        ");
-  EXPECT_EQ(section("types"), "\n5\n5\n5\n5\n        ");
+  EXPECT_EQ(section("offsets"), "\n3\n6\n9\n12\n");
+  EXPECT_EQ(section("types"), "\n5\n5\n5\n5\n");
   std::istringstream conn(section("connectivity"));
   std::vector<std::int32_t> ids;
   for (std::int32_t v; conn >> v;) ids.push_back(v);
   ASSERT_EQ(ids.size(), 12u);
   for (std::size_t c = 0; c < 4; ++c)
     for (std::size_t k = 0; k < 3; ++k) EXPECT_EQ(ids[3 * c + k], m.cells[c][k]);
+
+  // The default, binary, as VTK reads it: triangles at z = 0, the fields exactly.
+  tetia::write_vtu(vtu, m, {{"cell id", cell_values}}, {{"x", point_values}});
+  const tetia::testvtu::VtkView v = tetia::testvtu::read_with_vtk(vtu);
+  ASSERT_TRUE(v.ok) << v.error;
+  ASSERT_EQ(v.points.size(), m.num_nodes());
+  for (std::size_t i = 0; i < m.num_nodes(); ++i)
+    EXPECT_EQ(v.points[i], (std::array<double, 3>{m.nodes[i].x, m.nodes[i].y, 0.0}));
+  ASSERT_EQ(v.cells.size(), m.num_cells());
+  for (std::size_t c = 0; c < m.num_cells(); ++c) {
+    EXPECT_EQ(v.cell_types[c], 5);
+    EXPECT_EQ(v.cells[c], (std::vector<long long>(m.cells[c].begin(), m.cells[c].end())));
+  }
+  ASSERT_NE(v.cell_array("cell id"), nullptr);
+  EXPECT_EQ(v.cell_array("cell id")->values, cell_values);
+  ASSERT_NE(v.point_array("x"), nullptr);
+  EXPECT_EQ(v.point_array("x")->values, point_values);
 }
 
 // ---------------------------------------------------------------------------------------------

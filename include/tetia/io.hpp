@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <variant>
@@ -50,11 +51,29 @@ AnyMesh read_any_mesh(const std::filesystem::path& file, MeshReadInfo* info = nu
 /// file, read_tri_mesh's for a 2D one); `on_cells` says which. Throws if the field is absent.
 std::vector<double> read_msh_field(const std::filesystem::path& file, const std::string& name, bool on_cells);
 
-/// ParaView's unstructured grid, ASCII, with cell and point data (triangles at z = 0).
+/// An integer field for VTU output (ids: written as Int64).
+struct IdField {
+  std::string name;
+  std::vector<std::int64_t> values;
+};
+
+enum class VtuFormat {
+  binary,  ///< appended raw data, zlib-compressed (what ParaView and VTK write by default)
+  ascii,   ///< every number as text (shortest round-trip form)
+};
+
+struct VtuOptions {
+  VtuFormat format = VtuFormat::binary;
+  std::vector<IdField> cell_ids, point_ids;  ///< extra Int64 arrays, after cell_id / node_id
+};
+
+/// ParaView's unstructured grid (VTK XML 1.0) with cell and point data (triangles at z = 0):
+/// point data "node_id" and cell data "cell_id" (Int64: the mesh's tags, or 1, 2, ...), then the
+/// options' id fields, then the fields (Float64). Binary by default.
 void write_vtu(const std::filesystem::path& file, const TetMesh& mesh, const std::vector<Field>& cell_data = {},
-               const std::vector<Field>& point_data = {});
+               const std::vector<Field>& point_data = {}, const VtuOptions& options = {});
 void write_vtu(const std::filesystem::path& file, const TriMesh& mesh, const std::vector<Field>& cell_data = {},
-               const std::vector<Field>& point_data = {});
+               const std::vector<Field>& point_data = {}, const VtuOptions& options = {});
 
 /// Gmsh .msh 4.1 ASCII, with node and element data (triangles at z = 0).
 void write_msh(const std::filesystem::path& file, const TetMesh& mesh, const std::vector<Field>& cell_data = {},

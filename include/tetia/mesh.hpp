@@ -1,9 +1,10 @@
 // tetia/mesh.hpp -- unstructured simplicial meshes: tetrahedral (TetMesh) and triangular
 // (TriMesh, in the plane): nodes, cells, facet adjacency, cell measures.
 //
-// Contract: a mesh is plain data (nodes and cells as node-index tuples) plus what `finalize`
-// derives from it. `finalize` validates (node indices in range, no repeated node in a cell,
-// finite coordinates, at least one cell, no facet in more than two cells), reorients inverted
+// Contract: a mesh is plain data (nodes and cells as node-index tuples, optionally the tags they
+// had in a file) plus what `finalize` derives from it. `finalize` validates (node indices in
+// range, no repeated node in a cell, finite coordinates, at least one cell, no facet in more
+// than two cells, tags either absent or one per node / cell, positive and distinct), reorients inverted
 // cells (counted), reports zero-measure cells (counted and kept: they intersect nothing),
 // computes cell volumes (areas) and the facet adjacency (faces of tetrahedra, edges of
 // triangles) in linear time. Errors throw std::runtime_error with a message naming the mesh and
@@ -25,6 +26,9 @@ namespace tetia {
 struct TetMesh {
   std::vector<Vec3> nodes;
   std::vector<std::array<std::int32_t, 4>> cells;  ///< node indices, positively oriented after finalize
+  /// The file's node and element tags (read_mesh fills them), one per node / cell; empty means
+  /// 1, 2, ... by position. Written back by write_msh and as the VTU's node_id / cell_id.
+  std::vector<std::int64_t> node_tags, cell_tags;
 
   // Derived by finalize():
   std::vector<std::array<std::int32_t, 4>> neighbors;  ///< cell across face k (opposite vertex k), -1 on the boundary
@@ -46,6 +50,8 @@ struct TetMesh {
 struct TriMesh {
   std::vector<Vec2> nodes;
   std::vector<std::array<std::int32_t, 3>> cells;  ///< node indices, counter-clockwise after finalize
+  /// As TetMesh's: the file's tags, empty for 1, 2, ...
+  std::vector<std::int64_t> node_tags, cell_tags;
 
   // Derived by finalize():
   std::vector<std::array<std::int32_t, 3>> neighbors;  ///< cell across edge k (opposite vertex k), -1 on the boundary

@@ -193,6 +193,7 @@ Extracted<Mesh> extract(GmshSession& s) {
   ex.node_index.build(node_tags, order, s.name(), "node", [&](std::size_t i, std::size_t j) {
     return std::equal(&xyz[3 * i], &xyz[3 * i + 3], &xyz[3 * j]);
   });
+  const std::vector<std::size_t> node_order = order;
   auto& nodes = ex.mesh.nodes;
   nodes.resize(order.size());
   std::vector<double> z;  // 2D: the dropped coordinate, checked below
@@ -230,6 +231,9 @@ Extracted<Mesh> extract(GmshSession& s) {
   }
   ex.ignored += drop_repeated_cells(cells, cell_tags);
   ex.cell_index.build(cell_tags, order, s.name(), "element", [](std::size_t, std::size_t) { return false; });
+  ex.mesh.node_tags.resize(nodes.size());
+  for (std::size_t k = 0; k < nodes.size(); ++k) ex.mesh.node_tags[k] = static_cast<std::int64_t>(node_tags[node_order[k]]);
+  ex.mesh.cell_tags.assign(cell_tags.begin(), cell_tags.end());
   if constexpr (Dm::d == 2) check_planar(s.name(), nodes, z, cells);
 
   // Count what is ignored without fetching its connectivity.

@@ -28,6 +28,7 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name) {
       file.node_tags, order, name, "node",
       [&](std::size_t i, std::size_t j) { return std::equal(&file.xyz[3 * i], &file.xyz[3 * i + 3], &file.xyz[3 * j]); },
       lines(file.node_where));
+  const std::vector<std::size_t> node_order = order;
   auto& nodes = ex.mesh.nodes;
   nodes.resize(order.size());
   std::vector<double> z;  // 2D: the dropped coordinate, checked below
@@ -70,6 +71,11 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name) {
   }
   ex.ignored += drop_repeated_cells(cells, cell_tags);
   ex.cell_index.build(cell_tags, order, name, "element", [](std::size_t, std::size_t) { return false; });
+  // The file's tags, in the mesh's order (nodes by tag; cells by tag, repeats dropped).
+  ex.mesh.node_tags.resize(nodes.size());
+  for (std::size_t k = 0; k < nodes.size(); ++k)
+    ex.mesh.node_tags[k] = static_cast<std::int64_t>(file.node_tags[node_order[k]]);
+  ex.mesh.cell_tags.assign(cell_tags.begin(), cell_tags.end());
   if constexpr (Dm::d == 2) check_planar(name, nodes, z, cells);
   return ex;
 }

@@ -41,6 +41,9 @@ namespace {
 bool is_higher_order_tetrahedron(int type) { return type == 11 || (type >= 29 && type <= 31); }
 bool is_higher_order_triangle(int type) { return type == 9 || (type >= 20 && type <= 25); }
 
+// Tags are kept as int64 (TetMesh::node_tags): larger ones are refused.
+constexpr std::uint64_t kMaxTag = std::numeric_limits<std::int64_t>::max();
+
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 
 // What a number is, for an error message: "node 17: coordinate". Held as views and made into a
@@ -181,6 +184,7 @@ class Parser {
   std::uint64_t to_tag(std::string_view s, const What& what) const {
     const auto v = to_int<std::uint64_t>(s, what);
     if (v == 0) fail(line_at_, what.str() + ": tag 0 (tags start at 1)");
+    if (v > kMaxTag) fail(line_at_, what.str() + ": tag " + std::to_string(v) + " beyond 2^63 - 1");
     return v;
   }
 
@@ -222,6 +226,7 @@ class Parser {
       v = static_cast<std::uint64_t>(t);
     }
     if (v == 0) fail(at, what.str() + ": tag 0 (tags start at 1)");
+    if (v > kMaxTag) fail(at, what.str() + ": tag " + std::to_string(v) + " beyond 2^63 - 1");
     return v;
   }
   double raw_double(const What& what) {

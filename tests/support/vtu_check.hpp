@@ -1,0 +1,91 @@
+// tests/support/vtu_check.hpp -- a VTU file as VTK itself reads it: runs tests/vtu_dump.py (VTK's
+// vtkXMLUnstructuredGridReader, Debian python3-vtk9, installed by scripts/install-deps.sh) and
+// parses its canonical text, so that tests compare what VTK sees with what they wrote.
+#pragma once
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace tetia::testvtu {
+
+struct VtkArray {
+  std::string type;            ///< VTK's name: double, long_long, unsigned_char, ...
+  std::vector<double> values;  ///< exact for Float64 and for integers below 2^53
+};
+
+struct VtkView {
+  bool ok = false;
+  std::string error;
+  std::vector<std::array<double, 3>> points;
+  std::vector<int> cell_types;
+  std::vector<std::vector<long long>> cells;
+  std::vector<std::pair<std::string, VtkArray>> point_arrays, cell_arrays;  ///< in file order
+  const VtkArray* cell_array(const std::string& name) const {
+    for (const auto& [n, a] : cell_arrays)
+      if (n == name) return &a;
+    return nullptr;
+  }
+  const VtkArray* point_array(const std::string& name) const {
+    for (const auto& [n, a] : point_arrays)
+      if (n == name) return &a;
+    return nullptr;
+  }
+};
+
+inline VtkView read_with_vtk(const std::filesystem::path& file) {
+  VtkView v;
+  const std::filesystem::path script = std::filesystem::path(__FILE__).parent_path().parent_path() / "vtu_dump.py";
+  const std::string cmd = "/usr/bin/python3 '" + script.string() + "' '" + file.string() + "' 2>&1";
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(::popen(cmd.c_str(), "r"), ::pclose);
+  if (!pipe) {
+    v.error = "cannot run " + cmd;
+    return v;
+  }
+  std::string text;
+  char buf[1 << 16];
+  for (std::size_t got; (got = std::fread(buf, 1, sizeof buf, pipe.get())) > 0;) text.append(buf, got);
+  const int status = ::pclose(pipe.release());
+  if (status != 0) {
+    v.error = "vtu_dump.py failed (is python3-vtk9 installed? scripts/install-deps.sh): " + text.substr(0, 2000);
+    return v;
+  }
+  std::istringstream in(text);
+  std::string word;
+  std::size_t n = 0;
+  in >> word >> n;
+  v.points.resize(n);
+  for (auto& p : v.points) in >> p[0] >> p[1] >> p[2];
+  in >> word >> n;
+  v.cells.resize(n);
+  v.cell_types.resize(n);
+  for (std::size_t c = 0; c < n; ++c) {
+    std::size_t k = 0;
+    in >> v.cell_types[c] >> k;
+    v.cells[c].resize(k);
+    for (auto& id : v.cells[c]) in >> id;
+  }
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::istringstream ls(line);
+    std::string kind, name;
+    VtkArray a;
+    ls >> kind >> name >> a.type;
+    for (std::size_t at; (at = name.find("%20")) != std::string::npos;) name.replace(at, 3, " ");
+    for (std::size_t at; (at = name.find("%25")) != std::string::npos;) name.replace(at, 3, "%");
+    for (std::string t; ls >> t;) a.values.push_back(std::strtod(t.c_str(), nullptr));
+    (kind == "point_array" ? v.point_arrays : v.cell_arrays).emplace_back(name, std::move(a));
+  }
+  v.ok = static_cast<bool>(in) || in.eof();
+  return v;
+}
+
+}  // namespace tetia::testvtu
