@@ -118,8 +118,10 @@ int main(int argc, char** argv) {
   CLI::App* rm_cmd = app.add_subcommand("remap", "Transfer a field conservatively from one mesh to another");
   rm_cmd->add_option("source", rm.source, "Source mesh (.msh)")->required();
   rm_cmd->add_option("target", rm.target, "Target mesh (.msh)")->required();
-  rm_cmd->add_option("--field", rm.field, "Name of a field stored in the source .msh (cell data for --order 0, "
-                                          "node data for --order 1)");
+  rm_cmd->add_option("--field", rm.fields,
+                     "A field stored in the source .msh (cell data for --order 0, node data for --order 1); "
+                     "repeat for several; vectors and tensors have every component remapped");
+  rm_cmd->add_option("--step", rm.step, "The time step of the fields (required when a field has several)");
   rm_cmd->add_option("--expr", rm.expr,
                      "An analytic field in x, y, z (z = 0 in 2D), e.g. \"sin(x)*y\" (muparser syntax)");
   rm_cmd->add_option("--order", rm.order, "0: cell averages (P0); 1: continuous nodal (P1)")

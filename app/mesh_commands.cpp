@@ -228,6 +228,24 @@ std::string num(double v, const char* what) {
   return buf;
 }
 
+// A string for JSON: quotes, backslashes and control characters escaped.
+std::string json_escape(const std::string& in) {
+  std::string out;
+  for (const char c : in) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
 // Fails before any work if `file` cannot be written: a directory, a missing directory, no
 // permission. A file that did not exist is removed again.
 void check_writable(const std::string& file, const char* option) {
@@ -323,66 +341,107 @@ int supermesh_command(const SupermeshCommand& cmd, const Mesh& source, const Mes
 template <class Mesh>
 int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& target) {
   using K = Kind<Mesh>;
-  std::vector<double> values;
+  // The fields: each named --field (any number of components, at --step), or the expression.
+  struct Input {
+    std::string name;
+    int components = 1;
+    std::vector<double> values;  // components per cell (P0) or node (P1), in a row
+  };
+  std::vector<Input> inputs;
   std::unique_ptr<Expression> expr;
   Function<Mesh> f;
   if (!cmd.expr.empty()) {
     expr = std::make_unique<Expression>(cmd.expr);
     f = [&](typename K::Point p) { return (*expr)(p); };
-    values = cmd.order == 0 ? average_over_cells(source, f) : node_values(source, f);
+    inputs.push_back({"field", 1, cmd.order == 0 ? average_over_cells(source, f) : node_values(source, f)});
   } else {
-    values = read_msh_field(cmd.source, cmd.field, cmd.order == 0);
+    for (const std::string& field : cmd.fields) {
+      Input in{field, 1, {}};
+      in.values = read_msh_field(cmd.source, field, cmd.order == 0, cmd.step, &in.components);
+      inputs.push_back(std::move(in));
+    }
   }
   SupermeshOptions options;
   options.threads = cmd.threads;
   // P1 (and its --matrix) needs each piece's local mixed mass matrix, not the polyhedron itself.
   options.keep_mixed_mass = cmd.order == 1;
   const auto s = supermesh(source, target, options);
-  P1RemapReport report;
-  const std::vector<double> out = cmd.order == 0 ? remap_p0(s, values) : remap_p1(s, values, &report);
   if (!cmd.matrix.empty()) {
     if (cmd.order == 0) write_p0_matrix(cmd.matrix, s, K::measure);
     else write_mixed_mass_matrix(s, cmd.matrix);
   }
-  const std::string name = cmd.expr.empty() ? cmd.field : "field";
+  // Every component remapped on its own (one solve each for P1); integrals and conservation
+  // per component. Every number is formatted before anything is printed (num() fails on one
+  // that is not finite), then one line of JSON.
+  P1RemapReport report;
   std::vector<Field> cell_data, point_data;
-  (cmd.order == 0 ? cell_data : point_data).push_back({name, out});
+  std::string fields_json;
+  double first[4] = {0, 0, 0, 0};  // source, overlap, target integral, conservation: the first component
+  std::vector<double> first_out;
+  for (const Input& in : inputs) {
+    const auto nc = static_cast<std::size_t>(in.components);
+    const std::size_t n_src = in.values.size() / nc;
+    const std::size_t n_tgt = cmd.order == 0 ? target.num_cells() : target.num_nodes();
+    std::vector<double> out(n_tgt * nc);
+    std::string ints[4];
+    for (std::size_t k = 0; k < nc; ++k) {
+      std::vector<double> component(n_src);
+      for (std::size_t i = 0; i < n_src; ++i) component[i] = in.values[i * nc + k];
+      P1RemapReport r;
+      const std::vector<double> result = cmd.order == 0 ? remap_p0(s, component) : remap_p1(s, component, &r);
+      report.iterations = std::max(report.iterations, r.iterations);
+      for (std::size_t i = 0; i < n_tgt; ++i) out[i * nc + k] = result[i];
+      // Conservation: the target integral against the source integral over the overlap (the
+      // whole source integral when the domains coincide).
+      const double src_int = integral(source, component, cmd.order);
+      const double tgt_int = integral(target, result, cmd.order);
+      const double overlap_int = overlap_integral<Mesh>(s, component, cmd.order);
+      const double conservation = std::abs(tgt_int - overlap_int) / std::max(std::abs(overlap_int), 1e-300);
+      const double values[4] = {src_int, overlap_int, tgt_int, conservation};
+      static const char* const kWhat[4] = {"source integral", "overlap integral", "target integral",
+                                           "conservation error"};
+      for (int q = 0; q < 4; ++q) ints[q] += (k == 0 ? "" : ", ") + num(values[q], kWhat[q]);
+      if (&in == &inputs.front() && k == 0) {
+        std::copy(values, values + 4, first);
+        first_out = result;
+      }
+    }
+    fields_json += std::string(fields_json.empty() ? "" : ", ") + "{\"name\": \"" + json_escape(in.name) +
+                   "\", \"components\": " + std::to_string(in.components) + ", \"source_integral\": [" + ints[0] +
+                   "], \"overlap_integral\": [" + ints[1] + "], \"target_integral\": [" + ints[2] +
+                   "], \"conservation_error\": [" + ints[3] + "]}";
+    (cmd.order == 0 ? cell_data : point_data).push_back({in.name, std::move(out), in.components});
+  }
   double error = -1.0, relative = -1.0;
   if (f) {
     const std::vector<double> exact = cmd.order == 0 ? average_over_cells(target, f) : node_values(target, f);
     (cmd.order == 0 ? cell_data : point_data).push_back({"exact", exact});
-    error = l2_error(target, out, cmd.order, f);
+    error = l2_error(target, first_out, cmd.order, f);
     const double norm = l2_norm(target, f);
     relative = norm > 0.0 ? error / norm : error;
   }
+  const std::string m = K::measure;
+  const std::string totals[3] = {num(K::total(source), "source total"), num(K::total(target), "target total"),
+                                 num(K::total(s), "intersection total")};
+  const std::string integrals[3] = {num(first[0], "source integral"), num(first[1], "overlap integral"),
+                                    num(first[2], "target integral")};
+  const std::string conservation_text = num(first[3], "conservation error");
+  const std::string l2[2] = {f ? num(error, "L2 error") : "null", f ? num(relative, "relative L2 error") : "null"};
   if (!cmd.output.empty()) {
     VtuOptions vtu;
     vtu.format = cmd.ascii ? VtuFormat::ascii : VtuFormat::binary;
     write_vtu(cmd.output, target, cell_data, point_data, vtu);
   }
-  // Conservation: the target integral against the source integral over the overlap (the
-  // whole source integral when the domains coincide).
-  const double src_int = integral(source, values, cmd.order);
-  const double tgt_int = integral(target, out, cmd.order);
-  const double overlap_int = overlap_integral<Mesh>(s, values, cmd.order);
-  const double conservation = std::abs(tgt_int - overlap_int) / std::max(std::abs(overlap_int), 1e-300);
-  const std::string m = K::measure;
-  // Every number first (num() fails on one that is not finite), then one line of JSON.
-  const std::string totals[3] = {num(K::total(source), "source total"), num(K::total(target), "target total"),
-                                 num(K::total(s), "intersection total")};
-  const std::string integrals[3] = {num(src_int, "source integral"), num(overlap_int, "overlap integral"),
-                                    num(tgt_int, "target integral")};
-  const std::string conservation_text = num(conservation, "conservation error");
-  const std::string l2[2] = {f ? num(error, "L2 error") : "null", f ? num(relative, "relative L2 error") : "null"};
   std::printf(
       "{\"dimension\": %d, \"order\": %d, \"source_cells\": %zu, \"target_cells\": %zu, \"pairs\": %zu, "
       "\"source_%s\": %s, \"target_%s\": %s, \"intersection_%s\": %s, \"source_integral\": %s, "
       "\"overlap_integral\": %s, \"target_integral\": %s, "
       "\"conservation_error\": %s, \"l2_error\": %s, \"relative_l2_error\": %s, \"cg_iterations\": %d, "
-      "\"seconds\": %.6f}\n",
+      "\"fields\": [%s], \"seconds\": %.6f}\n",
       K::dim, cmd.order, source.num_cells(), target.num_cells(), s.pieces.size(), m.c_str(), totals[0].c_str(),
       m.c_str(), totals[1].c_str(), m.c_str(), totals[2].c_str(), integrals[0].c_str(), integrals[1].c_str(),
-      integrals[2].c_str(), conservation_text.c_str(), l2[0].c_str(), l2[1].c_str(), report.iterations, s.seconds);
+      integrals[2].c_str(), conservation_text.c_str(), l2[0].c_str(), l2[1].c_str(), report.iterations,
+      fields_json.c_str(), s.seconds);
   return exit_ok;
 }
 
@@ -441,8 +500,11 @@ int run_supermesh(const SupermeshCommand& cmd) {
 int run_remap(const RemapCommand& cmd) {
   return guarded([&] {
     if (cmd.order != 0 && cmd.order != 1) throw std::invalid_argument("tetia: --order must be 0 or 1");
-    if (cmd.field.empty() == cmd.expr.empty())
-      throw std::invalid_argument("tetia: give exactly one of --field NAME and --expr EXPRESSION");
+    if (cmd.fields.empty() == cmd.expr.empty())
+      throw std::invalid_argument("tetia: give --field NAME (one or more) or --expr EXPRESSION, not both");
+    for (std::size_t i = 0; i < cmd.fields.size(); ++i)
+      for (std::size_t j = 0; j < i; ++j)
+        if (cmd.fields[i] == cmd.fields[j]) throw std::invalid_argument("tetia: --field " + cmd.fields[i] + " given twice");
     check_writable(cmd.output, "-o");
     check_writable(cmd.matrix, "--matrix");
     const auto [source, target] = load_pair(cmd.source, cmd.target);

@@ -5,7 +5,11 @@
 // usage or bad input file).
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <vector>
+
+#include "tetia/io.hpp"
 
 namespace tetia::app {
 
@@ -18,7 +22,9 @@ struct SupermeshCommand {
 
 struct RemapCommand {
   std::string source, target, output, matrix;
-  std::string field, expr;
+  std::vector<std::string> fields;  // --field, repeatable
+  std::string expr;
+  std::int64_t step = kOnlyStep;    // --step: the time step of the fields
   int order = 0;
   int threads = 0;
   bool ascii = false;  // the VTU as text instead of compressed binary

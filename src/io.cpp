@@ -160,9 +160,12 @@ void check_fields(const std::string& name, const std::vector<Field>& fields, std
       if (c == '"' || static_cast<unsigned char>(c) < 0x20)
         fail(name, "field " + f.name + ": name contains a quote or a control character");
     if (!seen.insert(f.name).second) fail(name, "field " + f.name + " given twice");
-    if (f.values.size() != expected)
+    if (f.components < 1 || f.components > 9)
+      fail(name, "field " + f.name + " has " + std::to_string(f.components) + " components (1 to 9 are valid)");
+    const std::size_t want = expected * static_cast<std::size_t>(f.components);
+    if (f.values.size() != want)
       fail(name, "field " + f.name + " has " + std::to_string(f.values.size()) + " values, expected " +
-                     std::to_string(expected));
+                     std::to_string(want));
   }
 }
 
@@ -190,10 +193,16 @@ std::string xml_escape(const std::string& s) {
   return out;
 }
 
-// Gmsh's $NodeData / $ElementData block for one scalar field, value i at tag tags[i].
+// Gmsh's $NodeData / $ElementData block for one field at time step 0, entity i at tag tags[i].
 void write_msh_data(TextOut& out, const char* section, const Field& f, const std::vector<std::int64_t>& tags) {
-  out << '$' << section << "\n1\n\"" << f.name << "\"\n1\n0\n3\n0\n1\n" << f.values.size() << '\n';
-  for (std::size_t i = 0; i < f.values.size(); ++i) out << tags[i] << ' ' << f.values[i] << '\n';
+  const auto nc = static_cast<std::size_t>(f.components);
+  const std::size_t n = f.values.size() / nc;
+  out << '$' << section << "\n1\n\"" << f.name << "\"\n1\n0\n3\n0\n" << f.components << '\n' << n << '\n';
+  for (std::size_t i = 0; i < n; ++i) {
+    out << tags[i];
+    for (std::size_t k = 0; k < nc; ++k) out << ' ' << f.values[i * nc + k];
+    out << '\n';
+  }
   out << "$End" << section << '\n';
 }
 
@@ -205,7 +214,10 @@ Mesh finish(Extracted<Mesh>&& ex, const std::string& name, const std::vector<Vie
   if (info != nullptr) {
     *info = MeshReadInfo{};
     info->ignored_elements = ex.ignored;
-    for (const auto& v : views) (v.type == "NodeData" ? info->node_fields : info->cell_fields).push_back(v.name);
+    for (const auto& v : views) {  // each field once, in the order of the file, if it has values
+      auto& names = v.type == "NodeData" ? info->node_fields : info->cell_fields;
+      if (!v.tags.empty() && std::find(names.begin(), names.end(), v.name) == names.end()) names.push_back(v.name);
+    }
   }
   return std::move(ex.mesh);
 }
@@ -320,7 +332,7 @@ void vtu(const std::filesystem::path& file, const Mesh& mesh, const std::vector<
     xml += "      <" + std::string(tag) + (fields.empty() ? "" : " Scalars=\"" + xml_escape(fields.front().name) + "\"") + ">\n";
     xml += "        " + arrays.array("Int64", id_name, 1, ids);
     for (const auto& f : more_ids) xml += "        " + arrays.array("Int64", f.name, 1, f.values);
-    for (const auto& f : fields) xml += "        " + arrays.array("Float64", f.name, 1, f.values);
+    for (const auto& f : fields) xml += "        " + arrays.array("Float64", f.name, f.components, f.values, static_cast<std::size_t>(f.components));
     xml += "      </" + std::string(tag) + ">\n";
   };
   data_section("PointData", "node_id", ids_or_positions(mesh.node_tags, mesh.nodes.size()), options.point_ids, point_data);
@@ -438,15 +450,30 @@ int mesh_dimension(const std::filesystem::path& file) {
 
 // The cells the field refers to are those of the file's dimension (tetrahedra if there are
 // any, else triangles), in the order read_mesh / read_tri_mesh give them.
-std::vector<double> read_msh_field(const std::filesystem::path& file, const std::string& field_name, bool on_cells) {
+std::vector<double> read_msh_field(const std::filesystem::path& file, const std::string& field_name, bool on_cells,
+                                   std::int64_t step, int* components) {
   const std::string name = file.string();
   const ParsedFile f(file, name);
   const std::vector<ViewData> views = detail::msh_views(f.msh, true);
   if (detail::msh_dimension(f.msh) == 2)
-    return field_values(name, detail::extract_msh<TriMesh>(f.msh, name), views, field_name, on_cells);
-  return field_values(name, detail::extract_msh<TetMesh>(f.msh, name), views, field_name, on_cells);
+    return field_values(name, detail::extract_msh<TriMesh>(f.msh, name), views, field_name, on_cells, step, components);
+  return field_values(name, detail::extract_msh<TetMesh>(f.msh, name), views, field_name, on_cells, step, components);
 }
 
+std::vector<FieldInfo> msh_fields(const std::filesystem::path& file) {
+  const std::string name = file.string();
+  const ParsedFile f(file, name);
+  std::vector<FieldInfo> out;
+  for (const detail::MshData& d : f.msh.data) {
+    if (d.tags.empty()) continue;
+    auto it = std::find_if(out.begin(), out.end(),
+                           [&](const FieldInfo& x) { return x.name == d.name && x.on_cells == d.on_elements; });
+    if (it == out.end()) it = out.insert(out.end(), FieldInfo{d.name, d.on_elements, d.components, {}});
+    if (std::find(it->steps.begin(), it->steps.end(), d.step) == it->steps.end()) it->steps.push_back(d.step);
+  }
+  for (auto& fi : out) std::sort(fi.steps.begin(), fi.steps.end());
+  return out;
+}
 
 void write_vtu(const std::filesystem::path& file, const TetMesh& mesh, const std::vector<Field>& cell_data,
                const std::vector<Field>& point_data, const VtuOptions& options) {

@@ -185,6 +185,63 @@ TEST_F(CliMeshTest, ErrorsComeEarlyNameTheLineAndNeverPrintNan) {
   }
 }
 
+// Fields as users have them: a vector field (every component remapped; linear components are
+// reproduced by P1), several fields in one run (each output named like its input), and time
+// steps (--step chooses; several steps and none chosen is an error naming them).
+TEST_F(CliMeshTest, VectorFieldsSeveralFieldsAndTimeSteps) {
+  const tetia::TetMesh b = tetia::read_mesh(b_);
+  std::vector<double> velocity, pressure(b.num_nodes());
+  for (std::size_t n = 0; n < b.num_nodes(); ++n) {
+    const tetia::Vec3 p = b.nodes[n];
+    velocity.insert(velocity.end(), {p.x + 1.0, 2.0 * p.y - p.z, 3.0});
+    pressure[n] = 1.0 - p.x;
+  }
+  const std::string src = (dir_ / "fields.msh").string();
+  tetia::write_msh(src, b, {}, {{"velocity", velocity, 3}, {"p", pressure}});
+  EXPECT_EQ(tetia::msh_fields(src).size(), 2u);
+  const std::string vtu = (dir_ / "out.vtu").string();
+  Result r = run("remap " + src + " " + a_ + " --field velocity --field p --order 1 -o " + vtu);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("\"fields\": [{\"name\": \"velocity\", \"components\": 3"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("{\"name\": \"p\", \"components\": 1"), std::string::npos) << r.out;
+  const tetia::testvtu::VtkView v = tetia::testvtu::read_with_vtk(vtu);
+  ASSERT_TRUE(v.ok) << v.error;
+  const tetia::TetMesh a = tetia::read_mesh(a_);
+  ASSERT_NE(v.point_array("velocity"), nullptr);
+  ASSERT_NE(v.point_array("p"), nullptr);
+  const auto& u = v.point_array("velocity")->values;
+  ASSERT_EQ(u.size(), 3 * a.num_nodes());
+  double worst = 0.0;
+  for (std::size_t n = 0; n < a.num_nodes(); ++n) {
+    const tetia::Vec3 p = a.nodes[n];
+    worst = std::max({worst, std::abs(u[3 * n] - (p.x + 1.0)), std::abs(u[3 * n + 1] - (2.0 * p.y - p.z)),
+                      std::abs(u[3 * n + 2] - 3.0), std::abs(v.point_array("p")->values[n] - (1.0 - p.x))});
+  }
+  EXPECT_LT(worst, 1e-10);
+
+  // Two time steps of one field: a file written with step 0, and step 1 appended by hand.
+  const std::string steps = (dir_ / "steps.msh").string();
+  std::vector<double> rho(b.num_cells(), 2.0);
+  tetia::write_msh(steps, b, {{"rho", rho}});
+  {
+    std::ofstream out(steps, std::ios::app);
+    out << "$ElementData\n1\n\"rho\"\n1\n1.5\n3\n1\n1\n" << b.num_cells() << "\n";
+    for (std::size_t c = 0; c < b.num_cells(); ++c) out << c + 1 << " 5\n";
+    out << "$EndElementData\n";
+  }
+  r = run("remap " + steps + " " + a_ + " --field rho --order 0");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("field rho has 2 time steps (0, 1); choose one (--step)"), std::string::npos) << r.err;
+  r = run("remap " + steps + " " + a_ + " --field rho --order 0 --step 1");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NEAR(json_number(r.out, "target_integral"), 5.0, 1e-12);
+  r = run("remap " + steps + " " + a_ + " --field rho --order 0 --step 7");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("has no time step 7 (steps: 0, 1)"), std::string::npos) << r.err;
+  r = run("remap " + steps + " " + a_ + " --field rho --field rho --order 0 --step 0");
+  EXPECT_EQ(r.status, 2);
+}
+
 TEST_F(CliMeshTest, SharedLibsupermeshCubes) {
   const fs::path shared = fs::path(TETIA_SHARED_DIR) / "extdata";
   if (!fs::exists(shared / "lsm_cube.1.msh")) GTEST_SKIP() << "needs ../shared/extdata (absent)";

@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <variant>
 #include <vector>
@@ -26,10 +27,12 @@ struct MeshReadInfo {
   std::vector<std::string> node_fields, cell_fields;  ///< names of data found in the file (if any)
 };
 
-/// A named field on a mesh: one value per node or per cell.
+/// A named field on a mesh: `components` values per node or per cell, in a row (1: scalar;
+/// 3: a vector; 9: a tensor).
 struct Field {
   std::string name;
   std::vector<double> values;
+  int components = 1;
 };
 
 TetMesh read_mesh(const std::filesystem::path& file, MeshReadInfo* info = nullptr);
@@ -46,10 +49,29 @@ int mesh_dimension(const std::filesystem::path& file);
 using AnyMesh = std::variant<TetMesh, TriMesh>;
 AnyMesh read_any_mesh(const std::filesystem::path& file, MeshReadInfo* info = nullptr);
 
-/// Reads a named scalar field (node data or element data) from a .msh file written by Gmsh or
-/// write_msh, in the order of the nodes or cells of the file's dimension (read_mesh's for a 3D
-/// file, read_tri_mesh's for a 2D one); `on_cells` says which. Throws if the field is absent.
-std::vector<double> read_msh_field(const std::filesystem::path& file, const std::string& name, bool on_cells);
+/// read_msh_field's default step: the field's only time step with values (an error naming the
+/// steps if it has several).
+inline constexpr std::int64_t kOnlyStep = std::numeric_limits<std::int64_t>::min();
+
+/// Reads a named field (node data or element data) from a .msh file, in the order of the nodes
+/// or cells of the file's dimension (read_mesh's for a 3D file, read_tri_mesh's for a 2D one);
+/// `on_cells` says which. `step`: the time step (the data block's first integer tag), or
+/// kOnlyStep. With `components`, fields of any number of components are read (each entity's
+/// values in a row; *components receives how many); without, only scalar ones. Throws if the
+/// field or the step is absent, a node or cell has no value, or a tag has two.
+std::vector<double> read_msh_field(const std::filesystem::path& file, const std::string& name, bool on_cells,
+                                   std::int64_t step = kOnlyStep, int* components = nullptr);
+
+/// What a field of a .msh file is: its name, kind, components, and the time steps with values.
+struct FieldInfo {
+  std::string name;
+  bool on_cells = false;
+  int components = 1;
+  std::vector<std::int64_t> steps;  ///< ascending
+};
+
+/// The fields of a .msh file, in the order they first appear.
+std::vector<FieldInfo> msh_fields(const std::filesystem::path& file);
 
 /// An integer field for VTU output (ids: written as Int64).
 struct IdField {

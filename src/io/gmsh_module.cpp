@@ -395,7 +395,10 @@ Mesh finish(Extracted<Mesh>&& ex, const std::string& name, const std::vector<Vie
   if (info != nullptr) {
     *info = MeshReadInfo{};
     info->ignored_elements = ex.ignored;
-    for (const auto& v : views) (v.type == "NodeData" ? info->node_fields : info->cell_fields).push_back(v.name);
+    for (const auto& v : views) {  // each field once, in the order of the file, if it has values
+      auto& names = v.type == "NodeData" ? info->node_fields : info->cell_fields;
+      if (!v.tags.empty() && std::find(names.begin(), names.end(), v.name) == names.end()) names.push_back(v.name);
+    }
   }
   return std::move(ex.mesh);
 }

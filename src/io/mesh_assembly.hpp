@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "../dimension.hpp"
+#include "tetia/io.hpp"
 #include "tetia/mesh.hpp"
 
 namespace tetia::detail {
@@ -186,13 +187,17 @@ inline void check_planar(const std::string& name, const std::vector<Vec2>& nodes
   }
 }
 
-// A field of a file at one time step: NodeData or ElementData (Gmsh: a model-based view).
+// A field of a file at one time step: NodeData or ElementData (Gmsh: a model-based view). A
+// file may hold several (one per field and step, or more, a step split in blocks).
 struct ViewData {
   std::string name, type;  // type: "NodeData" or "ElementData"
   int components = 0;
+  std::int64_t step = 0;
   std::vector<std::size_t> tags;
   std::vector<double> values;  // `components` per tag
 };
+
+using tetia::kOnlyStep;  // field_values' default step (tetia/io.hpp)
 
 template <class Mesh>
 std::string no_cells_message(const Extracted<Mesh>& ex) {
@@ -206,42 +211,74 @@ std::string no_cells_message(const Extracted<Mesh>& ex) {
   return m;
 }
 
-// The first non-empty time step of the named NodeData / ElementData, in the reader's order of
-// nodes / cells (matched by tag, so any tag numbering works). Every node / cell must have a
-// value; values on elements other than the kept cells are ignored.
+// The named NodeData / ElementData at time step `step` (kOnlyStep: its only step with values),
+// in the reader's order of nodes / cells (matched by tag, so any tag numbering works), each
+// entity's `components` values in a row. `components` receives their number; without it only
+// scalar fields are accepted. Every node / cell must have a value; values on elements other
+// than the kept cells are ignored; a tag given twice at the step is an error.
 template <class Mesh>
 std::vector<double> field_values(const std::string& name, const Extracted<Mesh>& ex,
-                                 const std::vector<ViewData>& views, const std::string& field_name, bool on_cells) {
+                                 const std::vector<ViewData>& views, const std::string& field_name, bool on_cells,
+                                 std::int64_t step = kOnlyStep, int* components = nullptr) {
   const char* kind = on_cells ? "cell" : "node";
   const std::string type = on_cells ? "ElementData" : "NodeData";
-  const ViewData* found = nullptr;
   std::string available;
+  std::vector<std::int64_t> steps;
+  bool found = false;
   for (const auto& v : views) {
     if (v.type != type) continue;
-    if (v.name == field_name && found == nullptr) found = &v;
-    available += (available.empty() ? "" : ", ") + v.name;
+    if (v.name == field_name) {
+      found = true;
+      if (!v.tags.empty() && std::find(steps.begin(), steps.end(), v.step) == steps.end()) steps.push_back(v.step);
+    } else if (available.find(v.name) == std::string::npos) {
+      available += (available.empty() ? "" : ", ") + v.name;
+    }
   }
-  if (found == nullptr)
+  if (found && available.find(field_name) == std::string::npos)
+    available = field_name + (available.empty() ? "" : ", " + available);
+  if (!found || steps.empty())
     io_fail(name, std::string("no ") + kind + " field named " + field_name + " (" + kind +
-                   " fields: " + (available.empty() ? "none" : available) + ")");
-  if (found->components != 1)
-    io_fail(name, "field " + field_name + " has " + std::to_string(found->components) +
-                   " components; only scalar fields are read");
+                      " fields: " + (available.empty() ? "none" : available) + ")");
+  std::sort(steps.begin(), steps.end());
+  std::string step_list;
+  for (const auto t : steps) step_list += (step_list.empty() ? "" : ", ") + std::to_string(t);
+  if (step == kOnlyStep && steps.size() > 1)
+    io_fail(name, "field " + field_name + " has " + std::to_string(steps.size()) + " time steps (" + step_list +
+                      "); choose one (--step)");
+  const std::int64_t chosen = step == kOnlyStep ? steps.front() : step;
+  if (std::find(steps.begin(), steps.end(), chosen) == steps.end())
+    io_fail(name, "field " + field_name + " has no time step " + std::to_string(chosen) + " (steps: " + step_list + ")");
+  int comps = 0;
+  for (const auto& v : views)
+    if (v.type == type && v.name == field_name && v.step == chosen && !v.tags.empty()) {
+      if (comps != 0 && v.components != comps)
+        io_fail(name, "field " + field_name + ": blocks of step " + std::to_string(chosen) +
+                          " with different numbers of components");
+      comps = v.components;
+    }
+  if (components == nullptr && comps != 1)
+    io_fail(name, "field " + field_name + " has " + std::to_string(comps) + " components; only scalar fields are read here");
+  const auto nc = static_cast<std::size_t>(comps);
   const TagIndex& index = on_cells ? ex.cell_index : ex.node_index;
   const std::size_t n = on_cells ? ex.mesh.cells.size() : ex.mesh.nodes.size();
-  std::vector<double> values(n, std::numeric_limits<double>::quiet_NaN());
+  std::vector<double> values(n * nc, std::numeric_limits<double>::quiet_NaN());
   std::vector<char> set(n, 0);
-  for (std::size_t i = 0; i < found->tags.size(); ++i) {
-    const std::int32_t k = index.find(found->tags[i]);
-    if (k < 0) continue;  // data on elements other than the cells
-    if (set[static_cast<std::size_t>(k)])
-      io_fail(name, "field " + field_name + ": " + (on_cells ? "element" : "node") + " tag " +
-                        std::to_string(found->tags[i]) + " has two values");
-    values[static_cast<std::size_t>(k)] = found->values[i];
-    set[static_cast<std::size_t>(k)] = 1;
+  for (const auto& v : views) {
+    if (v.type != type || v.name != field_name || v.step != chosen) continue;
+    for (std::size_t i = 0; i < v.tags.size(); ++i) {
+      const std::int32_t k = index.find(v.tags[i]);
+      if (k < 0) continue;  // data on elements other than the cells
+      const auto at = static_cast<std::size_t>(k);
+      if (set[at])
+        io_fail(name, "field " + field_name + ": " + (on_cells ? "element" : "node") + " tag " +
+                          std::to_string(v.tags[i]) + " has two values");
+      std::copy_n(&v.values[i * nc], nc, &values[at * nc]);
+      set[at] = 1;
+    }
   }
   for (std::size_t k = 0; k < n; ++k)
     if (!set[k]) io_fail(name, "field " + field_name + " has no value for " + kind + " " + std::to_string(k));
+  if (components != nullptr) *components = comps;
   return values;
 }
 

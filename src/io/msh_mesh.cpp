@@ -91,28 +91,16 @@ int msh_dimension(const MshFile& file) {
 
 std::vector<ViewData> msh_views(const MshFile& file, bool with_values) {
   std::vector<ViewData> out;
-  std::vector<const MshData*> chosen;
   for (const MshData& d : file.data) {
-    const std::string type = d.on_elements ? "ElementData" : "NodeData";
-    std::size_t k = 0;
-    while (k < out.size() && !(out[k].name == d.name && out[k].type == type)) ++k;
-    if (k == out.size()) {
-      out.push_back(ViewData{d.name, type, 0, {}, {}});
-      chosen.push_back(nullptr);
-    }
-    if (d.tags.empty()) continue;
-    if (chosen[k] == nullptr || d.step < chosen[k]->step) chosen[k] = &d;
-  }
-  for (std::size_t k = 0; k < out.size(); ++k) {
-    if (chosen[k] == nullptr) continue;
-    out[k].components = chosen[k]->components;
+    ViewData v{d.name, d.on_elements ? "ElementData" : "NodeData", d.components, d.step, {}, {}};
     if (with_values) {
-      out[k].tags.assign(chosen[k]->tags.begin(), chosen[k]->tags.end());
-      out[k].values = chosen[k]->values;
+      v.tags.assign(d.tags.begin(), d.tags.end());
+      v.values = d.values;
+    } else if (!d.tags.empty()) {
+      v.tags.push_back(d.tags.front());  // marks the block as having values
     }
+    out.push_back(std::move(v));
   }
-  // As Gmsh: a field that never has values is not a field.
-  out.erase(std::remove_if(out.begin(), out.end(), [](const ViewData& v) { return v.components == 0; }), out.end());
   return out;
 }
 

@@ -26,9 +26,9 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name);
 /// 3 if the file has tetrahedra (of any order), else 2 if it has triangles (of any order), else 0.
 int msh_dimension(const MshFile& file);
 
-/// The file's fields, one per name and kind (node or element data) in the order they first
-/// appear, each at its first time step (the smallest step number) with values; `with_values`
-/// = false keeps names and kinds only.
+/// The file's data blocks ($NodeData, $ElementData), one ViewData each, in file order;
+/// `with_values` = false keeps names, kinds, steps, components and one tag of a block with
+/// values (so that field_values can tell empty steps).
 std::vector<ViewData> msh_views(const MshFile& file, bool with_values);
 
 }  // namespace tetia::detail
