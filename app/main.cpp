@@ -140,7 +140,9 @@ int main(int argc, char** argv) {
                  "intersection_area), source_integral, overlap_integral (the source integral over the\n"
                  "overlap), target_integral, conservation_error (target against overlap integral,\n"
                  "relative), l2_error and relative_l2_error (with --expr; else null), cg_iterations\n"
-                 "(P1), seconds (the supermesh).");
+                 "(P1; the most over the components), all of the first field's first component;\n"
+                 "fields: per field name, components, and per component source_integral,\n"
+                 "overlap_integral, target_integral, conservation_error; seconds (the supermesh).");
 
   tetia::app::DemoCommand demo;
   CLI::App* demo_cmd = app.add_subcommand(
