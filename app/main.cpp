@@ -102,6 +102,8 @@ int main(int argc, char** argv) {
                      "Write the supermesh as VTU: its pieces as simplices, with cell data piece, source and target "
                      "(the files' cell tags) and simplex_volume (simplex_area)");
   sm_cmd->add_flag("--ascii", sm.ascii, "Write the VTU as text (default: binary, zlib-compressed)");
+  sm_cmd->add_flag("--progress", sm.progress, "Show the progress line on stderr even when it is not a terminal");
+  sm_cmd->add_flag("--quiet", sm.quiet, "No progress line and no notes on stderr");
   sm_cmd->add_option("--threads", sm.threads, "OpenMP threads (0: default)")
       ->check(CLI::Range(0, 4096))
       ->capture_default_str();
@@ -130,6 +132,8 @@ int main(int argc, char** argv) {
   rm_cmd->add_option("-o,--output", rm.output,
                      "Write the target mesh with the remapped field as VTU (node_id and cell_id: the file's tags)");
   rm_cmd->add_flag("--ascii", rm.ascii, "Write the VTU as text (default: binary, zlib-compressed)");
+  rm_cmd->add_flag("--progress", rm.progress, "Show the progress line on stderr even when it is not a terminal");
+  rm_cmd->add_flag("--quiet", rm.quiet, "No progress line and no notes on stderr");
   rm_cmd->add_option("--matrix", rm.matrix, "Write the coupling (mixed mass) matrix in Matrix Market format");
   rm_cmd->add_option("--threads", rm.threads, "OpenMP threads (0: default)")
       ->check(CLI::Range(0, 4096))

@@ -25,6 +25,7 @@
 
 #include "../src/compensated_sum.hpp"
 #include "pairs.hpp"
+#include "progress.hpp"
 #include "tetia/io.hpp"
 #include "tetia/remap.hpp"
 #include "tetia/supermesh.hpp"
@@ -60,8 +61,13 @@ struct Kind<TriMesh> {
   static double measure_of(const SupermeshPiece2& p) { return p.area; }
 };
 
-void progress(const std::string& what) {
-  if (isatty(fileno(stderr))) std::fprintf(stderr, "tetia: %s\n", what.c_str());
+// The start of a phase on the progress line (app/progress.hpp).
+void progress(const std::string& what) { Progress::get().phase(what); }
+
+// The supermesh's progress callback: its source cells, on the progress line.
+std::function<void(std::size_t, std::size_t)> intersection_progress(std::size_t cells) {
+  Progress::get().phase("intersection", cells);
+  return [](std::size_t done, std::size_t) { Progress::get().advance(done); };
 }
 
 // A field given as an expression in x, y, z (muparser syntax: sin, cos, exp, sqrt, ^, pi); in
@@ -273,8 +279,8 @@ AnyMesh load(const std::string& file) {
       [&](const auto& m) {
         using K = Kind<std::remove_cvref_t<decltype(m)>>;
         if (info.ignored_elements > 0)
-          progress(file + ": " + std::to_string(info.ignored_elements) + " elements other than " + K::cells +
-                   " ignored");
+          Progress::get().note(file + ": " + std::to_string(info.ignored_elements) + " elements other than " +
+                               K::cells + " ignored");
         if (m.reoriented_cells > 0)
           std::fprintf(stderr, "tetia: %s: %zu inverted cells reoriented\n", file.c_str(), m.reoriented_cells);
         if (m.flat_cells > 0)
@@ -301,11 +307,15 @@ std::pair<AnyMesh, AnyMesh> load_pair(const std::string& source, const std::stri
 template <class Body>
 int guarded(Body&& body) {
   try {
-    return body();
+    const int status = body();
+    Progress::get().finish();
+    return status;
   } catch (const std::invalid_argument& e) {
+    Progress::get().finish();
     std::fprintf(stderr, "%s\n", e.what());
     return exit_bad_input;
   } catch (const std::runtime_error& e) {
+    Progress::get().finish();
     std::fprintf(stderr, "%s\n", e.what());
     return exit_bad_input;
   } catch (const std::exception& e) {
@@ -321,14 +331,14 @@ int supermesh_command(const SupermeshCommand& cmd, const Mesh& source, const Mes
   options.search = parse_search(cmd.search);
   options.threads = cmd.threads;
   options.keep_polyhedra = !cmd.output.empty();
-  progress("intersecting " + std::to_string(source.num_cells()) + " x " + std::to_string(target.num_cells()) +
-           " cells");
+  options.progress = intersection_progress(source.num_cells());
   const auto s = supermesh(source, target, options);
   if (!cmd.output.empty()) {
     progress("writing " + cmd.output);
     write_supermesh_vtu<Mesh>(cmd.output, s, cmd.ascii ? VtuFormat::ascii : VtuFormat::binary);
   }
   const std::string m = K::measure;
+  Progress::get().finish();
   std::printf(
       "{\"dimension\": %d, \"source_cells\": %zu, \"target_cells\": %zu, \"candidates\": %zu, \"pairs\": %zu, "
       "\"source_%s\": %s, \"target_%s\": %s, \"intersection_%s\": %s, \"seconds\": %.6f}\n",
@@ -365,7 +375,9 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
   options.threads = cmd.threads;
   // P1 (and its --matrix) needs each piece's local mixed mass matrix, not the polyhedron itself.
   options.keep_mixed_mass = cmd.order == 1;
+  options.progress = intersection_progress(source.num_cells());
   const auto s = supermesh(source, target, options);
+  progress(cmd.order == 0 ? "remap" : "solve");
   if (!cmd.matrix.empty()) {
     if (cmd.order == 0) write_p0_matrix(cmd.matrix, s, K::measure);
     else write_mixed_mass_matrix(s, cmd.matrix);
@@ -428,10 +440,12 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
   const std::string conservation_text = num(first[3], "conservation error");
   const std::string l2[2] = {f ? num(error, "L2 error") : "null", f ? num(relative, "relative L2 error") : "null"};
   if (!cmd.output.empty()) {
+    progress("writing " + cmd.output);
     VtuOptions vtu;
     vtu.format = cmd.ascii ? VtuFormat::ascii : VtuFormat::binary;
     write_vtu(cmd.output, target, cell_data, point_data, vtu);
   }
+  Progress::get().finish();
   std::printf(
       "{\"dimension\": %d, \"order\": %d, \"source_cells\": %zu, \"target_cells\": %zu, \"pairs\": %zu, "
       "\"source_%s\": %s, \"target_%s\": %s, \"intersection_%s\": %s, \"source_integral\": %s, "
@@ -488,8 +502,14 @@ void demo_case(const std::string& name, const Mesh& a, const Mesh& b, bool same_
 
 }  // namespace
 
+Progress::Mode progress_mode(bool always, bool never) {
+  if (always && never) throw std::invalid_argument("tetia: --progress and --quiet exclude each other");
+  return always ? Progress::Mode::always : never ? Progress::Mode::never : Progress::Mode::automatic;
+}
+
 int run_supermesh(const SupermeshCommand& cmd) {
   return guarded([&] {
+    Progress::get().configure(progress_mode(cmd.progress, cmd.quiet));
     check_writable(cmd.output, "-o");
     const auto [source, target] = load_pair(cmd.source, cmd.target);
     if (const auto* s3 = std::get_if<TetMesh>(&source)) return supermesh_command(cmd, *s3, std::get<TetMesh>(target));
@@ -499,6 +519,7 @@ int run_supermesh(const SupermeshCommand& cmd) {
 
 int run_remap(const RemapCommand& cmd) {
   return guarded([&] {
+    Progress::get().configure(progress_mode(cmd.progress, cmd.quiet));
     if (cmd.order != 0 && cmd.order != 1) throw std::invalid_argument("tetia: --order must be 0 or 1");
     if (cmd.fields.empty() == cmd.expr.empty())
       throw std::invalid_argument("tetia: give --field NAME (one or more) or --expr EXPRESSION, not both");
@@ -515,6 +536,7 @@ int run_remap(const RemapCommand& cmd) {
 
 int run_demo(const DemoCommand& cmd) {
   return guarded([&] {
+    Progress::get().configure(Progress::Mode::automatic);
     if (cmd.dim != 2 && cmd.dim != 3) throw std::invalid_argument("tetia: --dim must be 2 or 3");
     std::filesystem::create_directories(cmd.output_dir);
     const double h = cmd.size > 0.0 ? cmd.size : (cmd.dim == 3 ? 0.12 : 0.03);

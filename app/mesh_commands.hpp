@@ -18,6 +18,7 @@ struct SupermeshCommand {
   int threads = 0;
   std::string search = "front";
   bool ascii = false;  // the VTU as text instead of compressed binary
+  bool progress = false, quiet = false;  // force the progress line on or off (app/progress.hpp)
 };
 
 struct RemapCommand {
@@ -28,6 +29,7 @@ struct RemapCommand {
   int order = 0;
   int threads = 0;
   bool ascii = false;  // the VTU as text instead of compressed binary
+  bool progress = false, quiet = false;  // force the progress line on or off (app/progress.hpp)
 };
 
 struct DemoCommand {

@@ -92,6 +92,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -862,14 +863,24 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
   }
   const auto nchunks_i = static_cast<std::int64_t>(nchunks);
   std::vector<std::unique_ptr<Worker<Mesh>>> workers(static_cast<std::size_t>(threads));
+  std::atomic<std::size_t> done{0};  // source cells finished, for options.progress
 #pragma omp parallel num_threads(threads)
   {
     const int id = omp_get_thread_num();
     auto& w = workers[static_cast<std::size_t>(id)];
     w = std::make_unique<Worker<Mesh>>(sh, threads);
 #pragma omp for schedule(dynamic, 1)
-    for (std::int64_t c = 0; c < nchunks_i; ++c) w->run_chunk(chunks[static_cast<std::size_t>(c)], id, options.search);
+    for (std::int64_t c = 0; c < nchunks_i; ++c) {
+      const Chunk& ch = chunks[static_cast<std::size_t>(c)];
+      w->run_chunk(chunks[static_cast<std::size_t>(c)], id, options.search);
+      if (options.progress) {
+        const std::size_t now = done.fetch_add(static_cast<std::size_t>(ch.end - ch.begin)) +
+                                static_cast<std::size_t>(ch.end - ch.begin);
+        if (id == 0) options.progress(now, ns);  // the caller's thread only: never concurrent
+      }
+    }
   }
+  if (options.progress) options.progress(ns, ns);
 
   // The merge, sorted by (target, source): a counting sort by target whose input is read in
   // the order of the source cells' indices (each source cell's pieces are consecutive in its

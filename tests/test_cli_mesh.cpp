@@ -242,6 +242,31 @@ TEST_F(CliMeshTest, VectorFieldsSeveralFieldsAndTimeSteps) {
   EXPECT_EQ(r.status, 2);
 }
 
+// The progress line: named phases, a bar and a rate for the intersection, shown with
+// --progress (here without the one-second delay), never with --quiet, and not by default when
+// stderr is not a terminal (as here); the JSON on stdout is the same either way.
+TEST_F(CliMeshTest, ProgressLineOnRequestOnly) {
+  const Result plain = run("supermesh " + a_ + " " + b_);
+  ASSERT_EQ(plain.status, 0) << plain.err;
+  EXPECT_EQ(plain.err, "");
+  ::setenv("TETIA_PROGRESS_DELAY", "0", 1);  // inherited by the commands run below
+  const Result shown = run("supermesh " + a_ + " " + b_ + " --progress");
+  ASSERT_EQ(shown.status, 0) << shown.err;
+  EXPECT_NE(shown.err.find("tetia: reading " + a_), std::string::npos) << shown.err;
+  EXPECT_NE(shown.err.find("tetia: intersection ["), std::string::npos) << shown.err;
+  EXPECT_NE(shown.err.find("100%"), std::string::npos) << shown.err;
+  EXPECT_NE(shown.err.find("cells/s"), std::string::npos) << shown.err;
+  EXPECT_EQ(json_number(shown.out, "pairs"), json_number(plain.out, "pairs"));
+  const Result solve = run("remap " + a_ + " " + b_ + " --expr x --order 1 --progress");
+  ASSERT_EQ(solve.status, 0) << solve.err;
+  EXPECT_NE(solve.err.find("tetia: solve"), std::string::npos) << solve.err;
+  const Result quiet = run("supermesh " + a_ + " " + b_ + " --quiet");
+  EXPECT_EQ(quiet.status, 0);
+  EXPECT_EQ(quiet.err, "");
+  EXPECT_EQ(run("supermesh " + a_ + " " + b_ + " --quiet --progress").status, 2);
+  ::unsetenv("TETIA_PROGRESS_DELAY");
+}
+
 TEST_F(CliMeshTest, SharedLibsupermeshCubes) {
   const fs::path shared = fs::path(TETIA_SHARED_DIR) / "extdata";
   if (!fs::exists(shared / "lsm_cube.1.msh")) GTEST_SKIP() << "needs ../shared/extdata (absent)";

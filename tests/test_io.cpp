@@ -469,7 +469,9 @@ TEST_F(IoTest, VtuReadByVtkInBothFormats) {
     options.format = format;
     const fs::path file = path(format == tetia::VtuFormat::binary ? "bin.vtu" : "ascii.vtu");
     tetia::write_vtu(file, m, {{"density", on_cells}}, {{"phi", on_nodes}}, options);
-    if (format == tetia::VtuFormat::binary) EXPECT_NE(read_text(file).find("vtkZLibDataCompressor"), std::string::npos);
+    if (format == tetia::VtuFormat::binary) {
+      EXPECT_NE(read_text(file).find("vtkZLibDataCompressor"), std::string::npos);
+    }
     const tetia::testvtu::VtkView v = tetia::testvtu::read_with_vtk(file);
     ASSERT_TRUE(v.ok) << v.error;
     ASSERT_EQ(v.points.size(), m.num_nodes());

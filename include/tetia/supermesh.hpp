@@ -25,6 +25,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "tetia/mesh.hpp"
@@ -40,6 +41,10 @@ struct SupermeshOptions {
   int threads = 0;              ///< 0: OpenMP's default
   bool keep_polyhedra = false;  ///< fill Supermesh::polyhedra (3D) or Supermesh2::polygons (2D)
   bool keep_mixed_mass = false; ///< fill Supermesh::local_mass (3D) or Supermesh2::local_mass (2D)
+  /// If set, called with (source cells done, source cells in all) as the work advances: after
+  /// each chunk of about 4096 source cells that the calling thread's team finishes, always from
+  /// the thread that called supermesh() (OpenMP's master), never concurrently.
+  std::function<void(std::size_t done, std::size_t total)> progress;
 };
 
 struct SupermeshPiece {

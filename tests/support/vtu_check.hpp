@@ -40,6 +40,23 @@ struct VtkView {
   }
 };
 
+// vtu_dump.py's array names: %20 is a space, %25 a percent sign.
+inline std::string unescape(const std::string& in) {
+  std::string out;
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    if (in[i] == '%' && in.compare(i, 3, "%20") == 0) {
+      out += ' ';
+      i += 2;
+    } else if (in[i] == '%' && in.compare(i, 3, "%25") == 0) {
+      out += '%';
+      i += 2;
+    } else {
+      out += in[i];
+    }
+  }
+  return out;
+}
+
 inline VtkView read_with_vtk(const std::filesystem::path& file) {
   VtkView v;
   const std::filesystem::path script = std::filesystem::path(__FILE__).parent_path().parent_path() / "vtu_dump.py";
@@ -79,8 +96,7 @@ inline VtkView read_with_vtk(const std::filesystem::path& file) {
     std::string kind, name;
     VtkArray a;
     ls >> kind >> name >> a.type;
-    for (std::size_t at; (at = name.find("%20")) != std::string::npos;) name.replace(at, 3, " ");
-    for (std::size_t at; (at = name.find("%25")) != std::string::npos;) name.replace(at, 3, "%");
+    name = unescape(name);
     for (std::string t; ls >> t;) a.values.push_back(std::strtod(t.c_str(), nullptr));
     (kind == "point_array" ? v.point_arrays : v.cell_arrays).emplace_back(name, std::move(a));
   }
