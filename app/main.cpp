@@ -104,6 +104,9 @@ int main(int argc, char** argv) {
   sm_cmd->add_flag("--ascii", sm.ascii, "Write the VTU as text (default: binary, zlib-compressed)");
   sm_cmd->add_flag("--progress", sm.progress, "Show the progress line on stderr even when it is not a terminal");
   sm_cmd->add_flag("--quiet", sm.quiet, "No progress line and no notes on stderr");
+  sm_cmd->add_flag("--corner-nodes", sm.corner_nodes,
+                   "Read second- and higher-order cells by their corner nodes: straight cells (the JSON then "
+                   "has straightened_cells: [source, target])");
   sm_cmd->add_option("--threads", sm.threads, "OpenMP threads (0: default)")
       ->check(CLI::Range(0, 4096))
       ->capture_default_str();
@@ -134,6 +137,9 @@ int main(int argc, char** argv) {
   rm_cmd->add_flag("--ascii", rm.ascii, "Write the VTU as text (default: binary, zlib-compressed)");
   rm_cmd->add_flag("--progress", rm.progress, "Show the progress line on stderr even when it is not a terminal");
   rm_cmd->add_flag("--quiet", rm.quiet, "No progress line and no notes on stderr");
+  rm_cmd->add_flag("--corner-nodes", rm.corner_nodes,
+                   "Read second- and higher-order cells by their corner nodes: straight cells (the JSON then "
+                   "has straightened_cells: [source, target])");
   rm_cmd->add_option("--matrix", rm.matrix, "Write the coupling (mixed mass) matrix in Matrix Market format");
   rm_cmd->add_option("--threads", rm.threads, "OpenMP threads (0: default)")
       ->check(CLI::Range(0, 4096))

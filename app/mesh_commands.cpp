@@ -271,10 +271,16 @@ int dimension_of(const AnyMesh& m) { return std::holds_alternative<TetMesh>(m) ?
 
 // Loads a mesh of either dimension, reporting progress, ignored elements, reoriented and flat
 // cells.
-AnyMesh load(const std::string& file) {
+AnyMesh load(const std::string& file, bool corner_nodes, std::size_t* straightened) {
   progress("reading " + file);
   MeshReadInfo info;
-  AnyMesh any = read_any_mesh(file, &info);
+  MeshReadOptions options;
+  options.corner_nodes = corner_nodes;
+  AnyMesh any = read_any_mesh(file, &info, options);
+  *straightened = info.straightened_cells;
+  if (info.straightened_cells > 0)
+    Progress::get().note(file + ": " + std::to_string(info.straightened_cells) +
+                         " higher-order cells read by their corner nodes: their geometry was made straight");
   std::visit(
       [&](const auto& m) {
         using K = Kind<std::remove_cvref_t<decltype(m)>>;
@@ -292,8 +298,17 @@ AnyMesh load(const std::string& file) {
 }
 
 // Both meshes, which must have the same dimension (a usage error otherwise: exit status 2).
-std::pair<AnyMesh, AnyMesh> load_pair(const std::string& source, const std::string& target) {
-  AnyMesh a = load(source), b = load(target);
+// Also the number of cells of each made straight (--corner-nodes).
+struct Loaded {
+  AnyMesh source, target;
+  std::size_t straightened[2] = {0, 0};
+};
+Loaded load_pair(const std::string& source, const std::string& target, bool corner_nodes) {
+  Loaded l;
+  l.source = load(source, corner_nodes, &l.straightened[0]);
+  l.target = load(target, corner_nodes, &l.straightened[1]);
+  AnyMesh& a = l.source;
+  AnyMesh& b = l.target;
   if (dimension_of(a) != dimension_of(b)) {
     const auto what = [](const AnyMesh& m) {
       return dimension_of(m) == 3 ? std::string("a 3D mesh (tetrahedra)") : std::string("a 2D mesh (triangles)");
@@ -301,7 +316,13 @@ std::pair<AnyMesh, AnyMesh> load_pair(const std::string& source, const std::stri
     throw std::invalid_argument("tetia: " + source + " is " + what(a) + " but " + target + " is " + what(b) +
                                 "; both meshes must have the same dimension");
   }
-  return {std::move(a), std::move(b)};
+  return l;
+}
+
+// The JSON key that says a geometry was made straight (only with --corner-nodes).
+std::string straightened_json(bool corner_nodes, const std::size_t (&n)[2]) {
+  if (!corner_nodes) return "";
+  return ", \"straightened_cells\": [" + std::to_string(n[0]) + ", " + std::to_string(n[1]) + "]";
 }
 
 template <class Body>
@@ -325,7 +346,7 @@ int guarded(Body&& body) {
 }
 
 template <class Mesh>
-int supermesh_command(const SupermeshCommand& cmd, const Mesh& source, const Mesh& target) {
+int supermesh_command(const SupermeshCommand& cmd, const Mesh& source, const Mesh& target, const std::string& extra) {
   using K = Kind<Mesh>;
   SupermeshOptions options;
   options.search = parse_search(cmd.search);
@@ -341,15 +362,15 @@ int supermesh_command(const SupermeshCommand& cmd, const Mesh& source, const Mes
   Progress::get().finish();
   std::printf(
       "{\"dimension\": %d, \"source_cells\": %zu, \"target_cells\": %zu, \"candidates\": %zu, \"pairs\": %zu, "
-      "\"source_%s\": %s, \"target_%s\": %s, \"intersection_%s\": %s, \"seconds\": %.6f}\n",
+      "\"source_%s\": %s, \"target_%s\": %s, \"intersection_%s\": %s%s, \"seconds\": %.6f}\n",
       K::dim, source.num_cells(), target.num_cells(), s.candidates, s.pieces.size(), m.c_str(),
       num(K::total(source), "source total").c_str(), m.c_str(), num(K::total(target), "target total").c_str(),
-      m.c_str(), num(K::total(s), "intersection total").c_str(), s.seconds);
+      m.c_str(), num(K::total(s), "intersection total").c_str(), extra.c_str(), s.seconds);
   return exit_ok;
 }
 
 template <class Mesh>
-int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& target) {
+int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& target, const std::string& extra) {
   using K = Kind<Mesh>;
   // The fields: each named --field (any number of components, at --step), or the expression.
   struct Input {
@@ -367,7 +388,9 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
   } else {
     for (const std::string& field : cmd.fields) {
       Input in{field, 1, {}};
-      in.values = read_msh_field(cmd.source, field, cmd.order == 0, cmd.step, &in.components);
+      MeshReadOptions read_options;
+      read_options.corner_nodes = cmd.corner_nodes;
+      in.values = read_msh_field(cmd.source, field, cmd.order == 0, cmd.step, &in.components, read_options);
       inputs.push_back(std::move(in));
     }
   }
@@ -451,11 +474,11 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
       "\"source_%s\": %s, \"target_%s\": %s, \"intersection_%s\": %s, \"source_integral\": %s, "
       "\"overlap_integral\": %s, \"target_integral\": %s, "
       "\"conservation_error\": %s, \"l2_error\": %s, \"relative_l2_error\": %s, \"cg_iterations\": %d, "
-      "\"fields\": [%s], \"seconds\": %.6f}\n",
+      "\"fields\": [%s]%s, \"seconds\": %.6f}\n",
       K::dim, cmd.order, source.num_cells(), target.num_cells(), s.pieces.size(), m.c_str(), totals[0].c_str(),
       m.c_str(), totals[1].c_str(), m.c_str(), totals[2].c_str(), integrals[0].c_str(), integrals[1].c_str(),
       integrals[2].c_str(), conservation_text.c_str(), l2[0].c_str(), l2[1].c_str(), report.iterations,
-      fields_json.c_str(), s.seconds);
+      fields_json.c_str(), extra.c_str(), s.seconds);
   return exit_ok;
 }
 
@@ -511,9 +534,11 @@ int run_supermesh(const SupermeshCommand& cmd) {
   return guarded([&] {
     Progress::get().configure(progress_mode(cmd.progress, cmd.quiet));
     check_writable(cmd.output, "-o");
-    const auto [source, target] = load_pair(cmd.source, cmd.target);
-    if (const auto* s3 = std::get_if<TetMesh>(&source)) return supermesh_command(cmd, *s3, std::get<TetMesh>(target));
-    return supermesh_command(cmd, std::get<TriMesh>(source), std::get<TriMesh>(target));
+    const Loaded l = load_pair(cmd.source, cmd.target, cmd.corner_nodes);
+    const std::string extra = straightened_json(cmd.corner_nodes, l.straightened);
+    if (const auto* s3 = std::get_if<TetMesh>(&l.source))
+      return supermesh_command(cmd, *s3, std::get<TetMesh>(l.target), extra);
+    return supermesh_command(cmd, std::get<TriMesh>(l.source), std::get<TriMesh>(l.target), extra);
   });
 }
 
@@ -528,9 +553,11 @@ int run_remap(const RemapCommand& cmd) {
         if (cmd.fields[i] == cmd.fields[j]) throw std::invalid_argument("tetia: --field " + cmd.fields[i] + " given twice");
     check_writable(cmd.output, "-o");
     check_writable(cmd.matrix, "--matrix");
-    const auto [source, target] = load_pair(cmd.source, cmd.target);
-    if (const auto* s3 = std::get_if<TetMesh>(&source)) return remap_command(cmd, *s3, std::get<TetMesh>(target));
-    return remap_command(cmd, std::get<TriMesh>(source), std::get<TriMesh>(target));
+    const Loaded l = load_pair(cmd.source, cmd.target, cmd.corner_nodes);
+    const std::string extra = straightened_json(cmd.corner_nodes, l.straightened);
+    if (const auto* s3 = std::get_if<TetMesh>(&l.source))
+      return remap_command(cmd, *s3, std::get<TetMesh>(l.target), extra);
+    return remap_command(cmd, std::get<TriMesh>(l.source), std::get<TriMesh>(l.target), extra);
   });
 }
 

@@ -19,6 +19,7 @@ struct SupermeshCommand {
   std::string search = "front";
   bool ascii = false;  // the VTU as text instead of compressed binary
   bool progress = false, quiet = false;  // force the progress line on or off (app/progress.hpp)
+  bool corner_nodes = false;             // read higher-order cells by their corners (straight)
 };
 
 struct RemapCommand {
@@ -30,6 +31,7 @@ struct RemapCommand {
   int threads = 0;
   bool ascii = false;  // the VTU as text instead of compressed binary
   bool progress = false, quiet = false;  // force the progress line on or off (app/progress.hpp)
+  bool corner_nodes = false;             // read higher-order cells by their corners (straight)
 };
 
 struct DemoCommand {

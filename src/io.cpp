@@ -214,6 +214,7 @@ Mesh finish(Extracted<Mesh>&& ex, const std::string& name, const std::vector<Vie
   if (info != nullptr) {
     *info = MeshReadInfo{};
     info->ignored_elements = ex.ignored;
+    info->straightened_cells = ex.straightened;
     for (const auto& v : views) {  // each field once, in the order of the file, if it has values
       auto& names = v.type == "NodeData" ? info->node_fields : info->cell_fields;
       if (!v.tags.empty() && std::find(names.begin(), names.end(), v.name) == names.end()) names.push_back(v.name);
@@ -233,11 +234,11 @@ struct ParsedFile {
 // Nodes by increasing tag (all of the file's nodes, used or not), first-order cells of every
 // entity and physical group by increasing tag, each node set once; then finalize(mesh, FILE).
 template <class Mesh>
-Mesh read(const std::filesystem::path& file, MeshReadInfo* info) {
+Mesh read(const std::filesystem::path& file, MeshReadInfo* info, const MeshReadOptions& options) {
   const std::string name = file.string();
   const ParsedFile f(file, name);
   const std::vector<ViewData> views = info != nullptr ? detail::msh_views(f.msh, false) : std::vector<ViewData>{};
-  return finish(detail::extract_msh<Mesh>(f.msh, name), name, views, info);
+  return finish(detail::extract_msh<Mesh>(f.msh, name, options.corner_nodes), name, views, info);
 }
 
 // VTK XML UnstructuredGrid (format 1.0). Float64 points (z = 0 for triangles) and fields, Int64
@@ -427,17 +428,21 @@ void msh(const std::filesystem::path& file, const Mesh& mesh, const std::vector<
 
 // ---------------------------------------------------------------------------------------------
 
-TetMesh read_mesh(const std::filesystem::path& file, MeshReadInfo* info) { return read<TetMesh>(file, info); }
+TetMesh read_mesh(const std::filesystem::path& file, MeshReadInfo* info, const MeshReadOptions& options) {
+  return read<TetMesh>(file, info, options);
+}
 
-TriMesh read_tri_mesh(const std::filesystem::path& file, MeshReadInfo* info) { return read<TriMesh>(file, info); }
+TriMesh read_tri_mesh(const std::filesystem::path& file, MeshReadInfo* info, const MeshReadOptions& options) {
+  return read<TriMesh>(file, info, options);
+}
 
-AnyMesh read_any_mesh(const std::filesystem::path& file, MeshReadInfo* info) {
+AnyMesh read_any_mesh(const std::filesystem::path& file, MeshReadInfo* info, const MeshReadOptions& options) {
   const std::string name = file.string();
   const ParsedFile f(file, name);
   const int dim = detail::msh_dimension(f.msh);
   const std::vector<ViewData> views = info != nullptr ? detail::msh_views(f.msh, false) : std::vector<ViewData>{};
-  if (dim == 3) return finish(detail::extract_msh<TetMesh>(f.msh, name), name, views, info);
-  if (dim == 2) return finish(detail::extract_msh<TriMesh>(f.msh, name), name, views, info);
+  if (dim == 3) return finish(detail::extract_msh<TetMesh>(f.msh, name, options.corner_nodes), name, views, info);
+  if (dim == 2) return finish(detail::extract_msh<TriMesh>(f.msh, name, options.corner_nodes), name, views, info);
   fail(name, "no tetrahedra or triangles (" + std::to_string(f.msh.other_elements) + " other elements ignored)");
 }
 
@@ -451,13 +456,15 @@ int mesh_dimension(const std::filesystem::path& file) {
 // The cells the field refers to are those of the file's dimension (tetrahedra if there are
 // any, else triangles), in the order read_mesh / read_tri_mesh give them.
 std::vector<double> read_msh_field(const std::filesystem::path& file, const std::string& field_name, bool on_cells,
-                                   std::int64_t step, int* components) {
+                                   std::int64_t step, int* components, const MeshReadOptions& options) {
   const std::string name = file.string();
   const ParsedFile f(file, name);
   const std::vector<ViewData> views = detail::msh_views(f.msh, true);
   if (detail::msh_dimension(f.msh) == 2)
-    return field_values(name, detail::extract_msh<TriMesh>(f.msh, name), views, field_name, on_cells, step, components);
-  return field_values(name, detail::extract_msh<TetMesh>(f.msh, name), views, field_name, on_cells, step, components);
+    return field_values(name, detail::extract_msh<TriMesh>(f.msh, name, options.corner_nodes), views, field_name,
+                        on_cells, step, components);
+  return field_values(name, detail::extract_msh<TetMesh>(f.msh, name, options.corner_nodes), views, field_name,
+                      on_cells, step, components);
 }
 
 std::vector<FieldInfo> msh_fields(const std::filesystem::path& file) {

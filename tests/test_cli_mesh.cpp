@@ -267,6 +267,26 @@ TEST_F(CliMeshTest, ProgressLineOnRequestOnly) {
   ::unsetenv("TETIA_PROGRESS_DELAY");
 }
 
+// Second-order tetrahedra: refused by default (the message names the option), read by their
+// corner nodes with --corner-nodes, which the JSON and stderr report.
+TEST_F(CliMeshTest, SecondOrderCellsOnlyWithCornerNodes) {
+  const std::string t10 = (dir_ / "t10.msh").string();
+  std::ofstream(t10) << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n10\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n"
+                        "5 .5 0 0\n6 .5 .5 0\n7 0 .5 0\n8 0 0 .5\n9 0 .5 .5\n10 .5 0 .5\n$EndNodes\n"
+                        "$Elements\n1\n1 11 2 0 1 1 2 3 4 5 6 7 8 9 10\n$EndElements\n";
+  Result r = run("supermesh " + t10 + " " + a_);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("higher-order tetrahedra are not supported"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--corner-nodes"), std::string::npos) << r.err;
+  r = run("supermesh " + t10 + " " + a_ + " --corner-nodes --progress");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("\"straightened_cells\": [1, 0]"), std::string::npos) << r.out;
+  EXPECT_NEAR(json_number(r.out, "intersection_volume"), 1.0 / 6.0, 1e-15);
+  EXPECT_NE(r.err.find("1 higher-order cells read by their corner nodes: their geometry was made straight"),
+            std::string::npos)
+      << r.err;
+}
+
 TEST_F(CliMeshTest, SharedLibsupermeshCubes) {
   const fs::path shared = fs::path(TETIA_SHARED_DIR) / "extdata";
   if (!fs::exists(shared / "lsm_cube.1.msh")) GTEST_SKIP() << "needs ../shared/extdata (absent)";

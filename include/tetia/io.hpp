@@ -24,7 +24,15 @@ namespace tetia {
 
 struct MeshReadInfo {
   std::size_t ignored_elements = 0;  ///< elements other than 4-node tetrahedra
+  std::size_t straightened_cells = 0;  ///< higher-order cells read by their corners (corner_nodes)
   std::vector<std::string> node_fields, cell_fields;  ///< names of data found in the file (if any)
+};
+
+struct MeshReadOptions {
+  /// Read tetrahedra (triangles) of order > 1 by their corner nodes: straight cells, which
+  /// approximate curved ones (their other nodes are ignored; MeshReadInfo counts them). Off:
+  /// a file with only such cells is an error that says so.
+  bool corner_nodes = false;
 };
 
 /// A named field on a mesh: `components` values per node or per cell, in a row (1: scalar;
@@ -35,11 +43,12 @@ struct Field {
   int components = 1;
 };
 
-TetMesh read_mesh(const std::filesystem::path& file, MeshReadInfo* info = nullptr);
+TetMesh read_mesh(const std::filesystem::path& file, MeshReadInfo* info = nullptr, const MeshReadOptions& options = {});
 
 /// A 2D mesh: the file's triangles (z dropped). Nodes by increasing tag, cells by increasing
 /// element tag, as read_mesh.
-TriMesh read_tri_mesh(const std::filesystem::path& file, MeshReadInfo* info = nullptr);
+TriMesh read_tri_mesh(const std::filesystem::path& file, MeshReadInfo* info = nullptr,
+                      const MeshReadOptions& options = {});
 
 /// 3 if the file has tetrahedra (of any order), else 2 if it has triangles, else an error.
 int mesh_dimension(const std::filesystem::path& file);
@@ -47,7 +56,8 @@ int mesh_dimension(const std::filesystem::path& file);
 /// Either mesh, by the file's dimension, read in one pass (what read_mesh or read_tri_mesh
 /// would return).
 using AnyMesh = std::variant<TetMesh, TriMesh>;
-AnyMesh read_any_mesh(const std::filesystem::path& file, MeshReadInfo* info = nullptr);
+AnyMesh read_any_mesh(const std::filesystem::path& file, MeshReadInfo* info = nullptr,
+                      const MeshReadOptions& options = {});
 
 /// read_msh_field's default step: the field's only time step with values (an error naming the
 /// steps if it has several).
@@ -60,7 +70,8 @@ inline constexpr std::int64_t kOnlyStep = std::numeric_limits<std::int64_t>::min
 /// values in a row; *components receives how many); without, only scalar ones. Throws if the
 /// field or the step is absent, a node or cell has no value, or a tag has two.
 std::vector<double> read_msh_field(const std::filesystem::path& file, const std::string& name, bool on_cells,
-                                   std::int64_t step = kOnlyStep, int* components = nullptr);
+                                   std::int64_t step = kOnlyStep, int* components = nullptr,
+                                   const MeshReadOptions& options = {});
 
 /// What a field of a .msh file is: its name, kind, components, and the time steps with values.
 struct FieldInfo {

@@ -108,6 +108,7 @@ struct Extracted {
   TagIndex node_index, cell_index;  // Gmsh tag -> index in mesh.nodes / mesh.cells
   std::size_t ignored = 0;          // elements of other types, and repeated cells
   std::size_t higher_order = 0;     // elements of other types that are cells of order > 1
+  std::size_t straightened = 0;     // cells of order > 1 kept by their corner nodes
 };
 
 // Gmsh's element types of the cells read: the 4-node tetrahedron and the 3-node triangle, and
@@ -205,7 +206,7 @@ std::string no_cells_message(const Extracted<Mesh>& ex) {
   std::string m = "no " + cells;
   if (ex.higher_order > 0)
     m += " of first order (" + std::to_string(ex.higher_order) + " higher-order " + cells +
-         " are not supported; convert with Gmsh: -order 1)";
+         " are not supported; convert with Gmsh: -order 1, or read their corner nodes only: --corner-nodes)";
   else
     m += " (" + std::to_string(ex.ignored) + " other elements ignored)";
   return m;

@@ -11,10 +11,19 @@
 namespace tetia::detail {
 
 template <class Mesh>
-Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name) {
+Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool corner_nodes) {
   using Dm = Dim<Mesh>;
   constexpr std::size_t nv = Dm::nv;
-  const MshCells& kept = Dm::d == 3 ? file.tetrahedra : file.triangles;
+  const MshCells& first_order = Dm::d == 3 ? file.tetrahedra : file.triangles;
+  const MshCells& higher = Dm::d == 3 ? file.higher_tetrahedra : file.higher_triangles;
+  MshCells merged;  // with corner_nodes: both, first order first
+  if (corner_nodes && !higher.tags.empty()) {
+    merged = first_order;
+    merged.tags.insert(merged.tags.end(), higher.tags.begin(), higher.tags.end());
+    merged.nodes.insert(merged.nodes.end(), higher.nodes.begin(), higher.nodes.end());
+    merged.where.insert(merged.where.end(), higher.where.begin(), higher.where.end());
+  }
+  const MshCells& kept = corner_nodes && !higher.tags.empty() ? merged : first_order;
   const MshCells& other = Dm::d == 3 ? file.triangles : file.tetrahedra;
   Extracted<Mesh> ex;
   const auto lines = [&](const std::vector<std::size_t>& where) {
@@ -55,6 +64,11 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name) {
   }
   ex.ignored = file.other_elements + other.tags.size() + (kept.tags.size() - order.size());
   ex.higher_order = Dm::d == 3 ? file.higher_order_tetrahedra : file.higher_order_triangles;
+  if (corner_nodes) {
+    ex.ignored -= higher.tags.size();
+    ex.straightened = higher.tags.size();
+    ex.higher_order = 0;
+  }
   auto& cells = ex.mesh.cells;
   std::vector<std::size_t> cell_tags(order.size());
   cells.resize(order.size());
@@ -80,8 +94,8 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name) {
   return ex;
 }
 
-template Extracted<TetMesh> extract_msh<TetMesh>(const MshFile&, const std::string&);
-template Extracted<TriMesh> extract_msh<TriMesh>(const MshFile&, const std::string&);
+template Extracted<TetMesh> extract_msh<TetMesh>(const MshFile&, const std::string&, bool);
+template Extracted<TriMesh> extract_msh<TriMesh>(const MshFile&, const std::string&, bool);
 
 int msh_dimension(const MshFile& file) {
   if (!file.tetrahedra.tags.empty() || file.higher_order_tetrahedra > 0) return 3;

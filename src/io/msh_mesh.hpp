@@ -19,9 +19,10 @@
 
 namespace tetia::detail {
 
-/// The cells of Mesh's type (TetMesh or TriMesh), not finalized.
+/// The cells of Mesh's type (TetMesh or TriMesh), not finalized; with `corner_nodes`, cells of
+/// higher order too, by their corner nodes (Extracted::straightened counts them).
 template <class Mesh>
-Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name);
+Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool corner_nodes = false);
 
 /// 3 if the file has tetrahedra (of any order), else 2 if it has triangles (of any order), else 0.
 int msh_dimension(const MshFile& file);

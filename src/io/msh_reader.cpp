@@ -419,8 +419,14 @@ class Parser {
     MshCells* cells = type == 4 ? &out_.tetrahedra : type == 2 ? &out_.triangles : nullptr;
     if (cells == nullptr) {
       ++out_.other_elements;
-      out_.higher_order_tetrahedra += is_higher_order_tetrahedron(type);
-      out_.higher_order_triangles += is_higher_order_triangle(type);
+      const bool tet = is_higher_order_tetrahedron(type), tri = is_higher_order_triangle(type);
+      out_.higher_order_tetrahedra += tet;
+      out_.higher_order_triangles += tri;
+      if (!tet && !tri) return;
+      cells = tet ? &out_.higher_tetrahedra : &out_.higher_triangles;  // the corners come first
+      cells->tags.push_back(tag);
+      cells->nodes.insert(cells->nodes.end(), nodes, nodes + (tet ? 4 : 3));
+      cells->where.push_back(at);
       return;
     }
     cells->tags.push_back(tag);

@@ -72,6 +72,9 @@ struct MshFile {
   std::size_t other_elements = 0;          ///< elements of every other type
   std::size_t higher_order_tetrahedra = 0;  ///< among them: tetrahedra of order > 1
   std::size_t higher_order_triangles = 0;   ///< and triangles of order > 1
+  /// Those tetrahedra and triangles by their corner nodes only (Gmsh lists the corners first),
+  /// for reading them as straight cells on request (MeshReadOptions::corner_nodes).
+  MshCells higher_tetrahedra, higher_triangles;
 
   std::vector<MshData> data;
 
