@@ -413,7 +413,8 @@ AnyMesh read_any_mesh_impl(const std::filesystem::path& file, MeshReadInfo* info
   load(s, file);
   const int dim = loaded_dimension(s);
   if (dim == 0) fail(name, "no tetrahedra or triangles");
-  const std::vector<ViewData> views = info != nullptr ? loaded_views(s, false) : std::vector<ViewData>{};
+  // With values: the info lists the fields that have some (as the strict reader's does).
+  const std::vector<ViewData> views = info != nullptr ? loaded_views(s, true) : std::vector<ViewData>{};
   if (dim == 3) return finish(extract<TetMesh>(s), name, views, info);
   return finish(extract<TriMesh>(s), name, views, info);
 }

@@ -14,7 +14,7 @@
 #include <numeric>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "../dimension.hpp"
@@ -78,8 +78,11 @@ class TagIndex {
         order[kept++] = order[k];
       }
       order.resize(kept);
-      sparse_.reserve(kept);
-      for (std::size_t k = 0; k < kept; ++k) sparse_.emplace(tags[order[k]], static_cast<std::int32_t>(k));
+      // Sorted tags, searched by bisection: no hash whose collisions a file could choose (the
+      // standard hash of an integer is the integer; tags that are all multiples of the bucket
+      // count made a hash map quadratic).
+      sparse_.resize(kept);
+      for (std::size_t k = 0; k < kept; ++k) sparse_[k] = tags[order[k]];
     }
   }
   template <class Same>
@@ -91,15 +94,15 @@ class TagIndex {
   // -1 if the tag is not indexed.
   std::int32_t find(std::size_t tag) const {
     if (!sparse_.empty()) {
-      const auto it = sparse_.find(tag);
-      return it == sparse_.end() ? -1 : it->second;
+      const auto it = std::lower_bound(sparse_.begin(), sparse_.end(), tag);
+      return it == sparse_.end() || *it != tag ? -1 : static_cast<std::int32_t>(it - sparse_.begin());
     }
     return tag < dense_.size() ? dense_[tag] : -1;
   }
 
  private:
   std::vector<std::int32_t> dense_;
-  std::unordered_map<std::size_t, std::int32_t> sparse_;
+  std::vector<std::size_t> sparse_;  // the kept tags, ascending (when they are not dense)
 };
 
 template <class Mesh>
@@ -223,23 +226,25 @@ std::vector<double> field_values(const std::string& name, const Extracted<Mesh>&
                                  std::int64_t step = kOnlyStep, int* components = nullptr) {
   const char* kind = on_cells ? "cell" : "node";
   const std::string type = on_cells ? "ElementData" : "NodeData";
-  std::string available;
   std::vector<std::int64_t> steps;
   bool found = false;
   for (const auto& v : views) {
-    if (v.type != type) continue;
-    if (v.name == field_name) {
-      found = true;
-      if (!v.tags.empty() && std::find(steps.begin(), steps.end(), v.step) == steps.end()) steps.push_back(v.step);
-    } else if (available.find(v.name) == std::string::npos) {
-      available += (available.empty() ? "" : ", ") + v.name;
-    }
+    if (v.type != type || v.name != field_name) continue;
+    found = true;
+    if (!v.tags.empty() && std::find(steps.begin(), steps.end(), v.step) == steps.end()) steps.push_back(v.step);
   }
-  if (found && available.find(field_name) == std::string::npos)
-    available = field_name + (available.empty() ? "" : ", " + available);
-  if (!found || steps.empty())
+  if (!found || steps.empty()) {
+    // The fields of that kind with values, each name once, in file order (built only here).
+    std::vector<std::string> names;
+    std::unordered_set<std::string> seen;
+    for (const auto& v : views)
+      if (v.type == type && !v.tags.empty() && seen.insert(v.name).second) names.push_back(v.name);
+    std::string available;
+    for (std::size_t i = 0; i < names.size() && i < 20; ++i) available += (i ? ", " : "") + names[i];
+    if (names.size() > 20) available += ", and " + std::to_string(names.size() - 20) + " more";
     io_fail(name, std::string("no ") + kind + " field named " + field_name + " (" + kind +
                       " fields: " + (available.empty() ? "none" : available) + ")");
+  }
   std::sort(steps.begin(), steps.end());
   std::string step_list;
   for (const auto t : steps) step_list += (step_list.empty() ? "" : ", ") + std::to_string(t);

@@ -62,11 +62,19 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
         },
         lines(kept.where));
   }
-  ex.ignored = file.other_elements + other.tags.size() + (kept.tags.size() - order.size());
-  ex.higher_order = Dm::d == 3 ? file.higher_order_tetrahedra : file.higher_order_triangles;
+  // Ignored: the elements of other types and the cells of the other dimension, each tag once (a
+  // mesh given twice lists them twice; the same tag with the same nodes is one element).
+  const auto distinct = [](const std::vector<std::uint64_t>& tags) {
+    std::vector<std::uint64_t> t(tags);
+    std::sort(t.begin(), t.end());
+    return static_cast<std::size_t>(std::unique(t.begin(), t.end()) - t.begin());
+  };
+  const std::size_t higher_distinct = distinct(higher.tags);
+  ex.ignored = file.other_elements + distinct(other.tags);
+  ex.higher_order = higher_distinct;
   if (corner_nodes) {
-    ex.ignored -= higher.tags.size();
-    ex.straightened = higher.tags.size();
+    ex.ignored -= std::min(ex.ignored, higher_distinct);
+    ex.straightened = higher_distinct;
     ex.higher_order = 0;
   }
   auto& cells = ex.mesh.cells;

@@ -19,6 +19,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
@@ -85,11 +86,28 @@ class Parser {
       if (section == "MeshFormat") {
         pos_ = at;
         header();
-      } else if (section == "Nodes") {
+        ++segment_;
+      } else if (section == "Nodes" || (section == "ParametricNodes" && out_.major == 2)) {
+        // A 2.x file that holds a mesh again (Gmsh writes it with every view it appends, and
+        // with Mesh.SaveAll renumbered differently): the last copy is the mesh, as Gmsh's 2.2
+        // reader has it. In 4.1 copies are merged and must agree (msh_mesh.hpp).
+        if (out_.major == 2 && nodes_segment_ >= 0 && nodes_segment_ != segment_) {
+          out_.node_tags.clear();
+          out_.xyz.clear();
+          out_.node_where.clear();
+        }
+        nodes_segment_ = segment_;
         nodes = true;
-        out_.major == 2 ? nodes2() : nodes4();
-        end_of("Nodes");
+        out_.major == 2 ? nodes2(section == "ParametricNodes") : nodes4();
+        end_of(std::string(section));
       } else if (section == "Elements") {
+        if (out_.major == 2 && elements_segment_ >= 0 && elements_segment_ != segment_) {
+          for (MshCells* c : {&out_.tetrahedra, &out_.triangles, &out_.higher_tetrahedra, &out_.higher_triangles})
+            *c = MshCells{};
+          other_tags_.clear();
+          out_.higher_order_tetrahedra = out_.higher_order_triangles = 0;
+        }
+        elements_segment_ = segment_;
         elements = true;
         out_.major == 2 ? elements2() : elements4();
         end_of("Elements");
@@ -107,6 +125,9 @@ class Parser {
     }
     if (!nodes) fail(b_.size(), "no $Nodes section");
     if (!elements) fail(b_.size(), "no $Elements section");
+    // Elements not kept, each counted once (a mesh given twice in a 4.1 file lists them twice).
+    std::sort(other_tags_.begin(), other_tags_.end());
+    out_.other_elements = static_cast<std::size_t>(std::unique(other_tags_.begin(), other_tags_.end()) - other_tags_.begin());
   }
 
  private:
@@ -164,8 +185,14 @@ class Parser {
     }
   }
 
+  // A leading '+' is read as Gmsh's strtod/fscanf read it (from_chars does not take it).
+  static std::string_view unplus(std::string_view s) {
+    return s.size() > 1 && s[0] == '+' && s[1] != '-' && s[1] != '+' ? s.substr(1) : s;
+  }
+
   template <class Int>
-  Int to_int(std::string_view s, const What& what) const {
+  Int to_int(std::string_view s_in, const What& what) const {
+    const std::string_view s = unplus(s_in);
     Int v{};
     const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
     if (r.ec != std::errc() || r.ptr != s.data() + s.size())
@@ -173,11 +200,20 @@ class Parser {
                          (std::is_signed_v<Int> ? "an integer" : "a non-negative integer") + " in range");
     return v;
   }
-  double to_double(std::string_view s, const What& what) const {
+  double to_double(std::string_view s_in, const What& what) const {
+    const std::string_view s = unplus(s_in);
     double v = 0.0;
     const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (r.ec != std::errc() || r.ptr != s.data() + s.size())
+    if (r.ec == std::errc::result_out_of_range && r.ptr == s.data() + s.size() && s.size() < 64) {
+      // Beyond the double range: a magnitude below the smallest subnormal reads as strtod
+      // reads it (0 or the nearest subnormal, as Gmsh has it); one above the largest double is
+      // not finite, an error below.
+      const std::string copy(s);
+      v = std::strtod(copy.c_str(), nullptr);
+      if (!std::isfinite(v)) fail(line_at_, what.str() + ": \"" + shorten(s) + "\" is not a number in range");
+    } else if (r.ec != std::errc() || r.ptr != s.data() + s.size()) {
       fail(line_at_, what.str() + ": \"" + shorten(s) + "\" is not a number in range");
+    }
     if (!std::isfinite(v)) fail(line_at_, what.str() + ": \"" + shorten(s) + "\" is not finite");
     return v;
   }
@@ -310,7 +346,10 @@ class Parser {
   }
 
   // 2.x: "N", then N lines "tag x y z" (binary: int tag, 3 doubles).
-  void nodes2() {
+  // $ParametricNodes (2.x, Mesh.SaveParametric): "tag x y z dim entity" and dim parameters
+  // (none for dim 0 or 3), read for the coordinates; binary: int tag, 3 doubles, int dim, int
+  // entity, the parameters as doubles.
+  void nodes2(bool parametric) {
     Tokens tk;
     line_of(tk, 1, "the number of nodes");
     const std::size_t count_at = line_at_;
@@ -323,9 +362,25 @@ class Parser {
         const std::size_t at = pos_;
         const std::uint64_t tag = raw_tag(false, "node");
         for (double& c : p) c = raw_double(What("node", tag, ": coordinate"));
+        if (parametric) {
+          const std::int32_t dim = raw_int("a parametric node's dimension");
+          raw_int("a parametric node's entity");
+          if (dim < 0 || dim > 3) fail(at, "node " + std::to_string(tag) + ": parametric dimension " + std::to_string(dim));
+          for (int k = 0; k < (dim == 1 ? 1 : dim == 2 ? 2 : 0); ++k) raw<double>("a node's parameter");
+        }
         add_node(tag, p, at);
       } else {
-        line_of(tk, 4, "a node line (tag x y z)");
+        if (parametric) {
+          split(next_line("a parametric node line"), tk, "a parametric node line");
+          if (tk.n < 6) fail(line_at_, "a parametric node line needs tag x y z dim entity");
+          const int dim = to_int<int>(tk.t[4], "a parametric node's dimension");
+          const int params = dim == 1 ? 1 : dim == 2 ? 2 : 0;
+          if (dim < 0 || dim > 3 || tk.n != 6 + params)
+            fail(line_at_, "a parametric node line of dimension " + std::to_string(dim) + " needs " +
+                               std::to_string(6 + params) + " numbers, found " + std::to_string(tk.n));
+        } else {
+          line_of(tk, 4, "a node line (tag x y z)");
+        }
         const std::uint64_t tag = to_tag(tk.t[0], "node");
         for (int k = 0; k < 3; ++k) p[k] = to_double(tk.t[k + 1], What("node", tag, ": coordinate"));
         add_node(tag, p, line_at_);
@@ -418,7 +473,7 @@ class Parser {
   void add_element(int type, std::uint64_t tag, const std::uint64_t* nodes, std::size_t at) {
     MshCells* cells = type == 4 ? &out_.tetrahedra : type == 2 ? &out_.triangles : nullptr;
     if (cells == nullptr) {
-      ++out_.other_elements;
+      other_tags_.push_back(tag);
       const bool tet = is_higher_order_tetrahedron(type), tri = is_higher_order_triangle(type);
       out_.higher_order_tetrahedra += tet;
       out_.higher_order_triangles += tri;
@@ -479,7 +534,7 @@ class Parser {
       const int nv = msh_nodes_per_element(type);
       if (ntags < 0 || ntags > tk.n - 3) fail(line_at_, element_what(tag) + ": more tags declared than given");
       if (nv == 0) {  // unknown type: the line says how long it is
-        ++out_.other_elements;
+        other_tags_.push_back(tag);
         continue;
       }
       if (tk.n != 3 + ntags + nv)
@@ -546,7 +601,7 @@ class Parser {
         if (tk.n < 1) fail(line_at_, "an empty element line");
         const std::uint64_t tag = to_tag(tk.t[0], "element");
         if (nv == 0) {
-          ++out_.other_elements;
+          other_tags_.push_back(tag);
           continue;
         }
         if (tk.n != 1 + nv)
@@ -653,6 +708,9 @@ class Parser {
   MshFile& out_;
   std::size_t pos_ = 0;
   std::size_t line_at_ = 0;
+  int segment_ = 0;  // how many $MeshFormat headers so far (a file may hold several meshes)
+  int nodes_segment_ = -1, elements_segment_ = -1;
+  std::vector<std::uint64_t> other_tags_;  // tags of the elements not kept
 };
 
 }  // namespace
