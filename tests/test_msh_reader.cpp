@@ -217,7 +217,9 @@ std::size_t expect_same_as_gmsh(const fs::path& file, const std::vector<Query>& 
     expect_same_mesh(std::get<TriMesh>(*ours), std::get<TriMesh>(*gmsh));
     EXPECT_EQ(tetia::read_tri_mesh(file).cells, std::get<TriMesh>(*ours).cells);
   }
-  if (compare_ignored) EXPECT_EQ(ours_info.ignored_elements, gmsh_info.ignored_elements);
+  if (compare_ignored) {
+    EXPECT_EQ(ours_info.ignored_elements, gmsh_info.ignored_elements);
+  }
   EXPECT_EQ(ours_info.node_fields, gmsh_info.node_fields);
   EXPECT_EQ(ours_info.cell_fields, gmsh_info.cell_fields);
   EXPECT_EQ(tetia::mesh_dimension(file), ours->index() == 0 ? 3 : 2);
@@ -572,7 +574,9 @@ TEST_F(MshReaderTest, AgreesWithGmshOnEveryVariantGmshWrites) {
       expect_gmsh_fields(w.with_views);
       ++files;
       EXPECT_GT(with_views, 0u);
-      if (!w.variant.save_all) EXPECT_EQ(with_views, cells.back());  // the same mesh, repeated
+      if (!w.variant.save_all) {
+        EXPECT_EQ(with_views, cells.back());  // the same mesh, repeated
+      }
     }
     // Not a vacuous agreement: every file has cells, and the variants differ where they must.
     for (std::size_t k = 0; k < variants.size(); ++k) {
@@ -1170,7 +1174,9 @@ TEST_F(MshReaderTest, RepeatedMeshAddsNoIgnoredElements) {
   for (const auto& [name, text] : literal) {
     const fs::path file = write(name, text);
     EXPECT_EQ(ignored_by_us(file), 1u) << name << ": the triangle, once";
-    if (name.find("22") != std::string::npos) EXPECT_EQ(ignored_by_gmsh(file), 1u) << name;
+    if (name.find("22") != std::string::npos) {
+      EXPECT_EQ(ignored_by_gmsh(file), 1u) << name;
+    }
   }
   for (const GmshCase& c : {kGmshCases[0], kGmshCases[2], kGmshCases[3]}) {
     SCOPED_TRACE(c.name);
@@ -1529,8 +1535,9 @@ TEST_F(MshReaderTest, MutantsReadOrThrowRuntimeError) {
       guard("mesh_dimension", [&] { tetia::mesh_dimension(file); });
       for (const Query& q : {Query{"u", false}, Query{"c", true}}) {
         std::vector<double> v;
-        if (guard("read_msh_field", [&] { v = tetia::read_msh_field(file, q.name, q.on_cells); }) && mesh)
+        if (guard("read_msh_field", [&] { v = tetia::read_msh_field(file, q.name, q.on_cells); }) && mesh) {
           EXPECT_EQ(v.size(), q.on_cells ? num_cells(*mesh) : num_nodes(*mesh)) << what;
+        }
       }
     }
     std::printf("[ mutants  ] %s (%zu bytes): %d mutants, %zu read, %zu rejected\n", src.name, bytes.size(), kMutants,
