@@ -19,7 +19,8 @@
 //    a non-finite coordinate or field value, a tag that is 0 or negative, an element type
 //    whose size is unknown in a binary file, a big-endian binary file, a data size other than
 //    8. (A file may hold several meshes one after another, as Gmsh writes them when it appends
-//    views: all are read, as Gmsh merges them.) (Duplicate tags and unknown node references are
+//    views: in a 2.x file the last copy is the mesh, as in Gmsh's 2.2 reader; in a 4.1 file
+//    all are read, as Gmsh merges them.) (Duplicate tags and unknown node references are
 //    found where the mesh is assembled, msh_mesh.hpp, which knows what is kept.)
 //  - time linear in the size of the file, and memory at most a small multiple of it: a count
 //    read from the file is checked against the bytes left before anything is reserved for it.
