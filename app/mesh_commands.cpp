@@ -163,7 +163,7 @@ double overlap_integral(const typename Kind<Mesh>::Result& s, const std::vector<
 // "simplex_volume" (area): each simplex's own measure, so that summing it over the file gives
 // the intersection's total (the piece's measure is the sum over its simplices).
 template <class Mesh>
-void write_supermesh_vtu(const std::string& file, const typename Kind<Mesh>::Result& s, VtuFormat format) {
+void write_supermesh_vtu(const std::string& file, const typename Kind<Mesh>::Result& s, VtuFormat format, int threads) {
   Mesh out;
   std::vector<std::int64_t> piece, source, target;
   std::vector<double> measure;
@@ -187,6 +187,13 @@ void write_supermesh_vtu(const std::string& file, const typename Kind<Mesh>::Res
       measure.push_back(std::abs(signed_area(simplex)));
     }
   };
+  // About five simplices per piece: reserved, so that growing does not copy (and fault in)
+  // hundreds of megabytes again.
+  const std::size_t expected = 5 * s.pieces.size();
+  out.nodes.reserve((Kind<Mesh>::dim + 1) * expected);
+  out.cells.reserve(expected);
+  for (auto* v : {&piece, &source, &target}) v->reserve(expected);
+  measure.reserve(expected);
   for (std::size_t k = 0; k < s.pieces.size(); ++k) {
     if constexpr (Kind<Mesh>::dim == 3) {
       for (const Tet& t : s.polyhedra[k].tetrahedra()) add(k, t);
@@ -196,6 +203,7 @@ void write_supermesh_vtu(const std::string& file, const typename Kind<Mesh>::Res
   }
   VtuOptions options;
   options.format = format;
+  options.threads = threads;
   options.cell_ids = {{"piece", std::move(piece)}, {"source", std::move(source)}, {"target", std::move(target)}};
   write_vtu(file, out, {{std::string("simplex_") + Kind<Mesh>::measure, measure}}, {}, options);
 }
@@ -356,7 +364,7 @@ int supermesh_command(const SupermeshCommand& cmd, const Mesh& source, const Mes
   const auto s = supermesh(source, target, options);
   if (!cmd.output.empty()) {
     progress("writing " + cmd.output);
-    write_supermesh_vtu<Mesh>(cmd.output, s, cmd.ascii ? VtuFormat::ascii : VtuFormat::binary);
+    write_supermesh_vtu<Mesh>(cmd.output, s, cmd.ascii ? VtuFormat::ascii : VtuFormat::binary, cmd.threads);
   }
   const std::string m = K::measure;
   Progress::get().finish();
@@ -466,6 +474,7 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
     progress("writing " + cmd.output);
     VtuOptions vtu;
     vtu.format = cmd.ascii ? VtuFormat::ascii : VtuFormat::binary;
+    vtu.threads = cmd.threads;
     write_vtu(cmd.output, target, cell_data, point_data, vtu);
   }
   Progress::get().finish();

@@ -12,6 +12,7 @@
 #include "tetia/io.hpp"
 
 #include <dlfcn.h>
+#include <omp.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -30,6 +31,7 @@
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <span>
 #include <string_view>
 #include <system_error>
 #include <type_traits>
@@ -241,21 +243,21 @@ Mesh read(const std::filesystem::path& file, MeshReadInfo* info, const MeshReadO
   return finish(detail::extract_msh<Mesh>(f.msh, name, options.corner_nodes), name, views, info);
 }
 
-// VTK XML UnstructuredGrid (format 1.0). Float64 points (z = 0 for triangles) and fields, Int64
-// connectivity, offsets and ids, UInt8 cell types 10 (VTK_TETRA) or 5 (VTK_TRIANGLE); point data
-// "node_id" and cell data "cell_id", the mesh's tags (1, 2, ... without them), before the
-// caller's arrays. Binary: every array in the appended section, raw, compressed with zlib in
+// VTK XML UnstructuredGrid (format 1.0). Float64 points (z = 0 for triangles) and fields, Int32
+// connectivity and offsets (the mesh's own), Int64 ids, UInt8 cell types 10 (VTK_TETRA) or 5 (VTK_TRIANGLE); point data
+// "node_id" and cell data "cell_id", the mesh's tags (when it has them), before the caller's
+// arrays. Binary: every array in the appended section, raw, compressed with zlib in
 // blocks of 32 KiB with VTK's UInt64 header (number of blocks, block size, size of a partial
 // last block or 0, compressed size of each block); ASCII: every number as the shortest text that
 // reads back to the same double, a non-finite value as nan / inf / -inf. Everything is
 // validated before the file is opened.
 class VtuArrays {
  public:
-  explicit VtuArrays(VtuFormat format) : binary_(format == VtuFormat::binary) {}
+  VtuArrays(VtuFormat format, int threads) : binary_(format == VtuFormat::binary), threads_(threads) {}
 
   // The DataArray element of one array, its data appended (binary) or inline (ASCII).
   template <class T>
-  std::string array(const char* type, const std::string& name, int components, const std::vector<T>& v,
+  std::string array(const char* type, const std::string& name, int components, std::span<const T> v,
                     std::size_t per_line = 1) {
     std::string head = "<DataArray type=\"" + std::string(type) + "\"";
     if (!name.empty()) head += " Name=\"" + xml_escape(name) + "\"";
@@ -279,28 +281,36 @@ class VtuArrays {
  private:
   static constexpr std::size_t kBlock = 1 << 15;
 
+  // The blocks are independent: compressed in parallel (`threads_`, 0: OpenMP's default), then
+  // concatenated in order, so the file is the same for any number of threads.
   void append_compressed(const unsigned char* data, std::size_t bytes) {
     const std::size_t blocks = (bytes + kBlock - 1) / kBlock;
     std::vector<std::uint64_t> header(3 + blocks);
     header[0] = blocks;
     header[1] = kBlock;
     header[2] = bytes % kBlock;
-    std::string body;
-    std::vector<unsigned char> out(compressBound(kBlock));
-    for (std::size_t k = 0; k < blocks; ++k) {
-      const std::size_t n = std::min(kBlock, bytes - k * kBlock);
-      uLongf got = static_cast<uLongf>(out.size());
+    std::vector<std::vector<unsigned char>> out(blocks);
+    bool failed = false;
+    const auto nblocks = static_cast<std::int64_t>(blocks);
+    const int threads = threads_ > 0 ? threads_ : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 4) num_threads(threads) reduction(|| : failed)
+    for (std::int64_t k = 0; k < nblocks; ++k) {
+      const auto kk = static_cast<std::size_t>(k);
+      const std::size_t n = std::min(kBlock, bytes - kk * kBlock);
+      out[kk].resize(compressBound(static_cast<uLong>(n)));
+      uLongf got = static_cast<uLongf>(out[kk].size());
       // Level 1: about as small as the default on these arrays, several times faster.
-      if (compress2(out.data(), &got, data + k * kBlock, static_cast<uLong>(n), 1) != Z_OK)
-        throw std::runtime_error("tetia: zlib compression failed");
-      header[3 + k] = got;
-      body.append(reinterpret_cast<const char*>(out.data()), got);
+      failed = failed || compress2(out[kk].data(), &got, data + kk * kBlock, static_cast<uLong>(n), 1) != Z_OK;
+      out[kk].resize(got);
     }
+    if (failed) throw std::runtime_error("tetia: zlib compression failed");
+    for (std::size_t k = 0; k < blocks; ++k) header[3 + k] = out[k].size();
     appended_.append(reinterpret_cast<const char*>(header.data()), header.size() * sizeof(std::uint64_t));
-    appended_ += body;
+    for (const auto& b : out) appended_.append(reinterpret_cast<const char*>(b.data()), b.size());
   }
 
   bool binary_;
+  int threads_;
   std::string appended_;
 };
 
@@ -326,38 +336,46 @@ void vtu(const std::filesystem::path& file, const Mesh& mesh, const std::vector<
                        std::to_string(ids.second));
   if (!mesh.node_tags.empty() && mesh.node_tags.size() != mesh.nodes.size()) fail(name, "node tags do not match the nodes");
   if (!mesh.cell_tags.empty() && mesh.cell_tags.size() != mesh.cells.size()) fail(name, "cell tags do not match the cells");
-  VtuArrays arrays(options.format);
+  VtuArrays arrays(options.format, options.threads);
   std::string xml;
   const auto data_section = [&](const char* tag, const char* id_name, const std::vector<std::int64_t>& ids,
                                 const std::vector<IdField>& more_ids, const std::vector<Field>& fields) {
     xml += "      <" + std::string(tag) + (fields.empty() ? "" : " Scalars=\"" + xml_escape(fields.front().name) + "\"") + ">\n";
-    xml += "        " + arrays.array("Int64", id_name, 1, ids);
-    for (const auto& f : more_ids) xml += "        " + arrays.array("Int64", f.name, 1, f.values);
-    for (const auto& f : fields) xml += "        " + arrays.array("Float64", f.name, f.components, f.values, static_cast<std::size_t>(f.components));
+    if (!ids.empty()) xml += "        " + arrays.array("Int64", id_name, 1, std::span(ids));
+    for (const auto& f : more_ids) xml += "        " + arrays.array("Int64", f.name, 1, std::span(f.values));
+    for (const auto& f : fields)
+      xml += "        " + arrays.array("Float64", f.name, f.components, std::span(f.values),
+                                       static_cast<std::size_t>(f.components));
     xml += "      </" + std::string(tag) + ">\n";
   };
-  data_section("PointData", "node_id", ids_or_positions(mesh.node_tags, mesh.nodes.size()), options.point_ids, point_data);
-  data_section("CellData", "cell_id", ids_or_positions(mesh.cell_tags, mesh.cells.size()), options.cell_ids, cell_data);
+  // The file's tags, if the mesh has them (positions would tell nothing: they are the ids VTK
+  // numbers by anyway).
+  data_section("PointData", "node_id", mesh.node_tags, options.point_ids, point_data);
+  data_section("CellData", "cell_id", mesh.cell_tags, options.cell_ids, cell_data);
   {
+    // 3D points are written straight from the mesh (three doubles each); 2D ones get z = 0.
     std::vector<double> xyz;
-    xyz.reserve(3 * mesh.nodes.size());
-    for (const auto& p : mesh.nodes) {
-      xyz.push_back(Dm::coord(p, 0));
-      xyz.push_back(Dm::coord(p, 1));
-      xyz.push_back(Dm::d == 3 ? Dm::coord(p, Dm::d - 1) : 0.0);
+    std::span<const double> points;
+    if constexpr (Dm::d == 3) {
+      static_assert(sizeof(Vec3) == 3 * sizeof(double));
+      points = std::span<const double>(&mesh.nodes[0].x, 3 * mesh.nodes.size());
+    } else {
+      xyz.reserve(3 * mesh.nodes.size());
+      for (const auto& p : mesh.nodes) xyz.insert(xyz.end(), {p.x, p.y, 0.0});
+      points = xyz;
     }
-    xml += "      <Points>\n        " + arrays.array("Float64", "", 3, xyz, 3) + "      </Points>\n";
+    xml += "      <Points>\n        " + arrays.array("Float64", "", 3, points, 3) + "      </Points>\n";
   }
   {
-    std::vector<std::int64_t> connectivity, offsets(mesh.cells.size());
-    connectivity.reserve(Dm::nv * mesh.cells.size());
-    for (const auto& c : mesh.cells)
-      for (const auto v : c) connectivity.push_back(v);
-    for (std::size_t c = 0; c < mesh.cells.size(); ++c) offsets[c] = static_cast<std::int64_t>(Dm::nv * (c + 1));
+    // Int32 connectivity and offsets, as the mesh holds them (VTK takes either width).
+    static_assert(sizeof(mesh.cells[0]) == Dm::nv * sizeof(std::int32_t));
+    const std::span<const std::int32_t> connectivity(&mesh.cells[0][0], Dm::nv * mesh.cells.size());
+    std::vector<std::int32_t> offsets(mesh.cells.size());
+    for (std::size_t c = 0; c < mesh.cells.size(); ++c) offsets[c] = static_cast<std::int32_t>(Dm::nv * (c + 1));
     const std::vector<std::uint8_t> types(mesh.cells.size(), Dm::d == 3 ? 10 : 5);  // VTK_TETRA, VTK_TRIANGLE
-    xml += "      <Cells>\n        " + arrays.array("Int64", "connectivity", 1, connectivity, Dm::nv) + "        " +
-           arrays.array("Int64", "offsets", 1, offsets) + "        " + arrays.array("UInt8", "types", 1, types) +
-           "      </Cells>\n";
+    xml += "      <Cells>\n        " + arrays.array("Int32", "connectivity", 1, connectivity, Dm::nv) + "        " +
+           arrays.array("Int32", "offsets", 1, std::span<const std::int32_t>(offsets)) + "        " +
+           arrays.array("UInt8", "types", 1, std::span<const std::uint8_t>(types)) + "      </Cells>\n";
   }
   const bool binary = options.format == VtuFormat::binary;
   TextOut out(file);

@@ -98,11 +98,12 @@ enum class VtuFormat {
 struct VtuOptions {
   VtuFormat format = VtuFormat::binary;
   std::vector<IdField> cell_ids, point_ids;  ///< extra Int64 arrays, after cell_id / node_id
+  int threads = 0;  ///< for the compression (0: OpenMP's default); the file is the same for any
 };
 
 /// ParaView's unstructured grid (VTK XML 1.0) with cell and point data (triangles at z = 0):
-/// point data "node_id" and cell data "cell_id" (Int64: the mesh's tags, or 1, 2, ...), then the
-/// options' id fields, then the fields (Float64). Binary by default.
+/// point data "node_id" and cell data "cell_id" (Int64: the mesh's tags, when it has them),
+/// then the options' id fields, then the fields (Float64). Binary by default.
 void write_vtu(const std::filesystem::path& file, const TetMesh& mesh, const std::vector<Field>& cell_data = {},
                const std::vector<Field>& point_data = {}, const VtuOptions& options = {});
 void write_vtu(const std::filesystem::path& file, const TriMesh& mesh, const std::vector<Field>& cell_data = {},
