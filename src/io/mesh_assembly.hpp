@@ -138,14 +138,27 @@ std::size_t drop_repeated_cells(std::vector<std::array<std::int32_t, N>>& cells,
     std::array<std::int32_t, N> nodes;  // sorted
     std::size_t cell;
   };
-  std::vector<Key> keys(cells.size());
+  // Keys bucketed by their smallest node (a counting sort, linear), each bucket (a few cells)
+  // sorted by its nodes and then by cell: equal node sets are then neighbours, earliest first.
+  std::size_t max_node = 0;
+  for (const auto& c : cells)
+    for (const auto v : c) max_node = std::max(max_node, static_cast<std::size_t>(v));
+  std::vector<std::size_t> start(cells.empty() ? 1 : max_node + 2, 0);
+  std::vector<Key> unsorted(cells.size());
   for (std::size_t c = 0; c < cells.size(); ++c) {
-    keys[c] = {cells[c], c};
-    std::sort(keys[c].nodes.begin(), keys[c].nodes.end());
+    unsorted[c] = {cells[c], c};
+    std::sort(unsorted[c].nodes.begin(), unsorted[c].nodes.end());
+    ++start[static_cast<std::size_t>(unsorted[c].nodes[0]) + 1];
   }
-  std::sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
-    return a.nodes != b.nodes ? a.nodes < b.nodes : a.cell < b.cell;
-  });
+  for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+  std::vector<Key> keys(cells.size());
+  {
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    for (const Key& k : unsorted) keys[fill[static_cast<std::size_t>(k.nodes[0])]++] = k;  // cells ascending
+  }
+  for (std::size_t b = 0; b + 1 < start.size(); ++b)
+    std::sort(keys.begin() + static_cast<std::ptrdiff_t>(start[b]), keys.begin() + static_cast<std::ptrdiff_t>(start[b + 1]),
+              [](const Key& a, const Key& k) { return a.nodes != k.nodes ? a.nodes < k.nodes : a.cell < k.cell; });
   std::vector<char> drop(cells.size(), 0);
   std::size_t dropped = 0;
   for (std::size_t k = 1; k < keys.size(); ++k)
