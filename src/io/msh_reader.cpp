@@ -74,8 +74,8 @@ class Parser {
     header();
     bool nodes = false, elements = false;
     // A file may hold several meshes one after the other (each from its own $MeshFormat; Gmsh
-    // appends the mesh again with every view it writes to a file): their nodes and elements
-    // are read in order, as Gmsh merges them; tags given twice must agree (msh_mesh.hpp).
+    // appends the mesh again with every view it writes to a file): see the $Nodes case for how
+    // 2.x and 4.1 files differ there. Data sections accumulate.
     while (true) {
       skip_blank();
       if (pos_ >= b_.size()) break;
