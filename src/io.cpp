@@ -208,22 +208,6 @@ void write_msh_data(TextOut& out, const char* section, const Field& f, const std
   out << "$End" << section << '\n';
 }
 
-// What a read returns, from either reader: finalize(mesh, FILE), and the info.
-template <class Mesh>
-Mesh finish(Extracted<Mesh>&& ex, const std::string& name, const std::vector<ViewData>& views, MeshReadInfo* info) {
-  if (ex.mesh.cells.empty()) fail(name, no_cells_message(ex));
-  finalize(ex.mesh, name);
-  if (info != nullptr) {
-    *info = MeshReadInfo{};
-    info->ignored_elements = ex.ignored;
-    info->straightened_cells = ex.straightened;
-    for (const auto& v : views) {  // each field once, in the order of the file, if it has values
-      auto& names = v.type == "NodeData" ? info->node_fields : info->cell_fields;
-      if (!v.tags.empty() && std::find(names.begin(), names.end(), v.name) == names.end()) names.push_back(v.name);
-    }
-  }
-  return std::move(ex.mesh);
-}
 
 // The strict reader (io/msh_reader.hpp, io/msh_mesh.hpp) on the file's bytes.
 struct ParsedFile {
@@ -240,7 +224,7 @@ Mesh read(const std::filesystem::path& file, MeshReadInfo* info, const MeshReadO
   const std::string name = file.string();
   const ParsedFile f(file, name);
   const std::vector<ViewData> views = info != nullptr ? detail::msh_views(f.msh, false) : std::vector<ViewData>{};
-  return finish(detail::extract_msh<Mesh>(f.msh, name, options.corner_nodes), name, views, info);
+  return detail::finish_read(detail::extract_msh<Mesh>(f.msh, name, options.corner_nodes), name, views, info);
 }
 
 // VTK XML UnstructuredGrid (format 1.0). Float64 points (z = 0 for triangles) and fields, Int32
@@ -459,8 +443,9 @@ AnyMesh read_any_mesh(const std::filesystem::path& file, MeshReadInfo* info, con
   const ParsedFile f(file, name);
   const int dim = detail::msh_dimension(f.msh);
   const std::vector<ViewData> views = info != nullptr ? detail::msh_views(f.msh, false) : std::vector<ViewData>{};
-  if (dim == 3) return finish(detail::extract_msh<TetMesh>(f.msh, name, options.corner_nodes), name, views, info);
-  if (dim == 2) return finish(detail::extract_msh<TriMesh>(f.msh, name, options.corner_nodes), name, views, info);
+  const bool corners = options.corner_nodes;
+  if (dim == 3) return detail::finish_read(detail::extract_msh<TetMesh>(f.msh, name, corners), name, views, info);
+  if (dim == 2) return detail::finish_read(detail::extract_msh<TriMesh>(f.msh, name, corners), name, views, info);
   fail(name, "no tetrahedra or triangles (" + std::to_string(f.msh.other_elements) + " other elements ignored)");
 }
 

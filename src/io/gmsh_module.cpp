@@ -387,21 +387,6 @@ Mesh generate(const std::string& name, double h, double measure, AddShape&& add_
 }
 
 
-// What a read returns, from either reader: finalize(mesh, FILE), and the info.
-template <class Mesh>
-Mesh finish(Extracted<Mesh>&& ex, const std::string& name, const std::vector<ViewData>& views, MeshReadInfo* info) {
-  if (ex.mesh.cells.empty()) fail(name, no_cells_message(ex));
-  finalize(ex.mesh, name);
-  if (info != nullptr) {
-    *info = MeshReadInfo{};
-    info->ignored_elements = ex.ignored;
-    for (const auto& v : views) {  // each field once, in the order of the file, if it has values
-      auto& names = v.type == "NodeData" ? info->node_fields : info->cell_fields;
-      if (!v.tags.empty() && std::find(names.begin(), names.end(), v.name) == names.end()) names.push_back(v.name);
-    }
-  }
-  return std::move(ex.mesh);
-}
 
 
 // Gmsh's reader, for the tests that compare the two (io/gmsh_reader.hpp): one Gmsh session,
@@ -415,8 +400,8 @@ AnyMesh read_any_mesh_impl(const std::filesystem::path& file, MeshReadInfo* info
   if (dim == 0) fail(name, "no tetrahedra or triangles");
   // With values: the info lists the fields that have some (as the strict reader's does).
   const std::vector<ViewData> views = info != nullptr ? loaded_views(s, true) : std::vector<ViewData>{};
-  if (dim == 3) return finish(extract<TetMesh>(s), name, views, info);
-  return finish(extract<TriMesh>(s), name, views, info);
+  if (dim == 3) return detail::finish_read(extract<TetMesh>(s), name, views, info);
+  return detail::finish_read(extract<TriMesh>(s), name, views, info);
 }
 
 std::vector<double> read_msh_field_impl(const std::filesystem::path& file, const std::string& field_name,

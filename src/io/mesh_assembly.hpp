@@ -228,6 +228,27 @@ std::string no_cells_message(const Extracted<Mesh>& ex) {
   return m;
 }
 
+// What a read returns, from either reader: the mesh finalized (finalize(mesh, FILE)) and, with
+// `info`, what was ignored or made straight and the fields with values, each name once in file
+// order.
+template <class Mesh>
+Mesh finish_read(Extracted<Mesh>&& ex, const std::string& name, const std::vector<ViewData>& views, MeshReadInfo* info) {
+  if (ex.mesh.cells.empty()) io_fail(name, no_cells_message(ex));
+  finalize(ex.mesh, name);
+  if (info != nullptr) {
+    *info = MeshReadInfo{};
+    info->ignored_elements = ex.ignored;
+    info->straightened_cells = ex.straightened;
+    std::unordered_set<std::string> seen[2];
+    for (const auto& v : views) {
+      const bool on_nodes = v.type == "NodeData";
+      if (!v.tags.empty() && seen[on_nodes ? 0 : 1].insert(v.name).second)
+        (on_nodes ? info->node_fields : info->cell_fields).push_back(v.name);
+    }
+  }
+  return std::move(ex.mesh);
+}
+
 // The named NodeData / ElementData at time step `step` (kOnlyStep: its only step with values),
 // in the reader's order of nodes / cells (matched by tag, so any tag numbering works), each
 // entity's `components` values in a row. `components` receives their number; without it only
