@@ -1,13 +1,17 @@
-// tetia/io.hpp -- reading meshes (Gmsh files, through the Gmsh library), writing VTU and .msh,
-// and generating meshes with Gmsh; tetrahedral (3D) and triangular (2D) alike.
+// tetia/io.hpp -- reading meshes (Gmsh .msh files, with tetia's own strict reader), writing VTU
+// and .msh, and generating meshes with Gmsh (loaded on first use); tetrahedral (3D) and
+// triangular (2D) alike.
 //
-// Contract: the readers accept .msh 2.2 and 4.1, ASCII and binary. read_mesh keeps the
-// tetrahedra of all physical groups (first-order, 4-node), read_tri_mesh the triangles
-// (first-order, 3-node), which must lie in a plane z = const (z is dropped); both ignore other
-// elements, counting them. A file's dimension is 3 if it has tetrahedra, else 2 if it has
-// triangles (mesh_dimension, read_any_mesh); a 3D mesh's boundary triangles are just ignored
-// elements. Results are finalized. Errors (missing file, unreadable file, no cells, bad data,
-// triangles off a plane) throw std::runtime_error with a message starting "tetia: FILE: ".
+// Contract: the readers accept .msh 2.x and 4.1, ASCII and binary, and never crash on a
+// malformed file. read_mesh keeps the tetrahedra of all physical groups (first-order, 4-node;
+// higher orders by their corners with MeshReadOptions::corner_nodes), read_tri_mesh the
+// triangles (the same), which must lie in a plane z = const (z is dropped); both ignore other
+// elements, counting them, and keep the file's node and element tags. A file's dimension is 3
+// if it has tetrahedra, else 2 if it has triangles (mesh_dimension, read_any_mesh); a 3D mesh's
+// boundary triangles are just ignored elements. Results are finalized. Errors (missing file,
+// unreadable file, malformed data, no cells, triangles off a plane) throw std::runtime_error
+// with a message starting "tetia: FILE: ", naming the line (ASCII) or byte offset (binary) and
+// the node, element or field where there is one.
 #pragma once
 
 #include <cstddef>
