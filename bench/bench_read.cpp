@@ -7,44 +7,22 @@
 // (cached). Each file is read by both readers in alternation, best of --repeat (default 3),
 // and the two meshes are checked to be identical. Prints one line per variant: size, seconds
 // and million cells per second of each reader, and their ratio. See docs/benchmarks.md.
-#include <gmsh.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <numeric>
 #include <string>
 #include <vector>
 
 #include "../src/io/gmsh_reader.hpp"
+#include "../tests/support/gmsh_write.hpp"
 #include "tetia/io.hpp"
 #include "tetia/mesh.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
-
-void write_with_gmsh(const tetia::TetMesh& m, const fs::path& file, double version, bool binary) {
-  gmsh::option::setNumber("General.Terminal", 0);
-  gmsh::clear();
-  gmsh::model::add("bench");
-  const int vol = gmsh::model::addDiscreteEntity(3);
-  std::vector<std::size_t> node_tags(m.num_nodes()), elem_tags(m.num_cells()), elem_nodes;
-  std::iota(node_tags.begin(), node_tags.end(), std::size_t{1});
-  std::iota(elem_tags.begin(), elem_tags.end(), std::size_t{1});
-  std::vector<double> xyz;
-  for (const auto& p : m.nodes) xyz.insert(xyz.end(), {p.x, p.y, p.z});
-  for (const auto& c : m.cells)
-    for (const auto v : c) elem_nodes.push_back(static_cast<std::size_t>(v) + 1);
-  gmsh::model::mesh::addNodes(3, vol, node_tags, xyz);
-  gmsh::model::mesh::addElementsByType(vol, 4, elem_tags, elem_nodes);
-  gmsh::option::setNumber("Mesh.MshFileVersion", version);
-  gmsh::option::setNumber("Mesh.Binary", binary ? 1 : 0);
-  gmsh::write(file.string());
-  gmsh::clear();
-}
 
 template <class F>
 double seconds(F&& f) {
@@ -61,7 +39,6 @@ int main(int argc, char** argv) {
     if (std::string(argv[i]) == "--repeat") repeat = std::max(1, std::atoi(argv[i + 1]));
   const int n = 55;
   const tetia::TetMesh mesh = tetia::make_kuhn_mesh({n, n, n}, {0, 0, 0}, {1.0 / n, 1.0 / n, 1.0 / n});
-  gmsh::initialize(0, nullptr, false);
   std::printf("%-16s %10s %9s %12s %9s %12s %8s\n", "file", "MB", "tetia s", "tetia Mc/s", "gmsh s", "gmsh Mc/s",
               "ratio");
   for (const double version : {2.2, 4.1})
@@ -70,7 +47,7 @@ int main(int argc, char** argv) {
       std::snprintf(name, sizeof name, "read_%s_%s.msh", version == 2.2 ? "22" : "41", binary ? "bin" : "ascii");
       const fs::path file = fs::path("bench-read") / name;
       fs::create_directories(file.parent_path());
-      if (!fs::exists(file)) write_with_gmsh(mesh, file, version, binary);
+      if (!fs::exists(file)) tetia::testsupport::gmsh_write(mesh, file, version, binary);
       double best_tetia = 1e30, best_gmsh = 1e30;
       bool same = true;
       for (int r = 0; r < repeat; ++r) {
@@ -86,6 +63,5 @@ int main(int argc, char** argv) {
                   cells / best_gmsh, best_gmsh / best_tetia, same ? "" : "  MESHES DIFFER");
       if (!same) return 1;
     }
-  gmsh::finalize();
   return 0;
 }

@@ -17,7 +17,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -26,8 +25,6 @@
 #include <cstring>
 #include <cstdlib>
 #include <limits>
-#include <mutex>
-#include <numbers>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -35,7 +32,6 @@
 #include <string_view>
 #include <system_error>
 #include <type_traits>
-#include <unordered_map>
 #include <unordered_set>
 #include <utility>
 #include <vector>
@@ -69,14 +65,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-using detail::drop_repeated_cells;
-using detail::Extracted;
 using detail::GmshCell;
-using detail::TagIndex;
 using detail::ViewData;
-using detail::check_planar;
 using detail::field_values;
-using detail::no_cells_message;
 
 [[noreturn]] void fail(const std::string& name, const std::string& what) { detail::io_fail(name, what); }
 

@@ -68,6 +68,7 @@
 #include <variant>
 #include <vector>
 
+#include "support/error_of.hpp"
 #include "../src/io/gmsh_reader.hpp"
 #include "../src/io/msh_reader.hpp"
 #include "tetia/io.hpp"
@@ -123,17 +124,7 @@ std::string with_crlf(const std::string& text) {
   return out;
 }
 
-// The message of the std::runtime_error `f` throws; fails the test if it throws nothing.
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no std::runtime_error thrown";
-  return "";
-}
+using tetia::testsupport::error_of;
 
 // What a field read gives: the values, or the error's message.
 struct Outcome {

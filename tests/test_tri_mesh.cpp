@@ -25,6 +25,7 @@
 #include <variant>
 #include <vector>
 
+#include "support/error_of.hpp"
 #include "support/vtu_check.hpp"
 #include "tetia/io.hpp"
 #include "tetia/mesh.hpp"
@@ -44,17 +45,7 @@ TriMesh two_triangles() {
   return m;
 }
 
-// The message `f` throws as std::runtime_error; fails the test if it throws nothing.
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no std::runtime_error thrown";
-  return "";
-}
+using tetia::testsupport::error_of;
 
 std::string finalize_error(TriMesh m, const std::string& name) {
   try {
