@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "support/error_of.hpp"
+#include "support/gmsh_write.hpp"
 #include "support/vtu_check.hpp"
 #include "tetia/io.hpp"
 #include "tetia/mesh.hpp"
@@ -169,44 +170,7 @@ TEST(StructuredTriMesh, CountsAreaAndAdjacency) {
 // ---------------------------------------------------------------------------------------------
 // Files
 
-// Test-only: `m` written by Gmsh itself (a discrete surface at height z), as .msh of the given
-// version, ASCII or binary; with `node_field` / `cell_field`, also views "gmsh nodes" / "gmsh
-// cells" appended by gmsh::view::write. Runs on the test's thread only, never alongside a tetia
-// I/O call (Gmsh is global state).
-void gmsh_write(const TriMesh& m, const fs::path& file, double version, bool binary, double z = 0.0,
-                const std::vector<double>& node_field = {}, const std::vector<double>& cell_field = {}) {
-  static std::once_flag once;
-  std::call_once(once, [] { gmsh::initialize(0, nullptr, false); });
-  gmsh::option::setNumber("General.Terminal", 0);
-  gmsh::option::setNumber("General.AbortOnError", 0);
-  gmsh::clear();
-  gmsh::model::add("test");
-  const int surf = gmsh::model::addDiscreteEntity(2);
-  std::vector<std::size_t> node_tags(m.num_nodes()), elem_tags(m.num_cells()), elem_nodes;
-  std::iota(node_tags.begin(), node_tags.end(), std::size_t{1});
-  std::iota(elem_tags.begin(), elem_tags.end(), std::size_t{1});
-  std::vector<double> xyz;
-  for (const auto& p : m.nodes) xyz.insert(xyz.end(), {p.x, p.y, z});
-  for (const auto& c : m.cells)
-    for (const auto v : c) elem_nodes.push_back(static_cast<std::size_t>(v) + 1);
-  gmsh::model::mesh::addNodes(2, surf, node_tags, xyz);
-  gmsh::model::mesh::addElementsByType(surf, 2, elem_tags, elem_nodes);
-  gmsh::option::setNumber("Mesh.MshFileVersion", version);
-  gmsh::option::setNumber("Mesh.Binary", binary ? 1 : 0);
-  gmsh::write(file.string());
-  if (!node_field.empty()) {
-    const int view = gmsh::view::add("gmsh nodes");
-    gmsh::view::addHomogeneousModelData(view, 0, "test", "NodeData", node_tags, node_field);
-    gmsh::view::write(view, file.string(), true);
-  }
-  if (!cell_field.empty()) {
-    const int view = gmsh::view::add("gmsh cells");
-    gmsh::view::addHomogeneousModelData(view, 0, "test", "ElementData", elem_tags, cell_field);
-    gmsh::view::write(view, file.string(), true);
-  }
-  gmsh::option::setNumber("Mesh.Binary", 0);
-  gmsh::clear();
-}
+using tetia::testsupport::gmsh_write;
 
 std::string read_text(const fs::path& p) {
   std::ifstream f(p, std::ios::binary);
