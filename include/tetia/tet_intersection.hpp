@@ -62,6 +62,9 @@ struct IntersectionStats {
   std::int64_t retries = 0;             ///< first attempts whose labels did not close up,
                                         ///< redone with the other reference (see solve_with)
   std::int64_t rescaled = 0;            ///< inputs scaled by a power of two (extreme sizes)
+  std::int64_t refined = 0;             ///< results whose error estimate exceeded 1e-12 of the
+                                        ///< smaller tetrahedron, computed again in its own frame
+                                        ///< with double-double orientations (see solve_with)
   std::int64_t exact_fallbacks = 0;     ///< results computed exactly (the last resort)
   std::int64_t calls = 0;
 

@@ -105,6 +105,7 @@ struct Frame {
   double det6;     // det[r1 - r0, r2 - r0, r3 - r0]
   double det6_sub;  // the same for the other tetrahedron (solve_with's test of the result)
   double size_squared_max;  // the larger sum of squared edge lengths (the rescaling's choice)
+  double s_ref, s_sub;      // the sums of squared edge lengths of each (the error estimate)
   bool flat_to_rounding;    // U or V has a quality below kFlatQuality (frame_from)
   double C[4][4];
 };
@@ -156,6 +157,8 @@ FrameStatus frame_from(const Tet& U, const Conditioning& cu, const BarycentricMa
   fr.ref = use_u ? &U : &V;
   fr.det6 = use_u ? cu.det6 : cv.det6;
   fr.det6_sub = use_u ? cv.det6 : cu.det6;
+  fr.s_ref = use_u ? cu.s : cv.s;
+  fr.s_sub = use_u ? cv.s : cu.s;
   if (use_u && map_u) {
     for (int i = 0; i < 4; ++i) (*map_u)((*fr.sub)[i], fr.C[i]);
   } else {

@@ -46,6 +46,12 @@ struct KernelResult {
   double coordinate_scale = 1.0;          // largest |coordinate| of X's vertices
   double ref_volume = 0.0;                // volume in the reference frame (Y has volume 1/6)
   double ref_first[3] = {0.0, 0.0, 0.0};  // first moments in the reference frame
+  // The kernel's volume was not certified to 1e-12 of the smaller tetrahedron and was computed
+  // again (refined_clip.hpp): these moments, in the frame's coordinates, are the result.
+  bool refined = false;
+  Moments refined_moments;
+  // Empty because X lies strictly on the negative side of a plane of Y (run_kernel): certain.
+  bool certainly_empty = false;
 
   // The empty result: no corners, no facets, zero volume and moments.
   void set_empty() {
@@ -55,6 +61,8 @@ struct KernelResult {
     ref_volume = 0.0;
     ref_first[0] = ref_first[1] = ref_first[2] = 0.0;
     x_inside = false;
+    refined = false;
+    certainly_empty = false;
   }
 };
 

@@ -69,12 +69,15 @@ void reference_moments(KernelResult& r) {
 // The volume in original units: the reference frame's volume scaled by |det6|, except where X
 // lies inside Y, whose intersection is X itself: its own |det6| / 6 then, accurate relative to X
 // however much smaller X is (its corners, X's vertices, have coordinates in Y's frame that
-// resolve X only to eps times Y's size). Every entry point takes the volume from here.
+// resolve X only to eps times Y's size); or the refined result where the kernel's was not
+// certified (solve_with). Every entry point takes the volume from here.
 double original_volume(const Frame& fr, const KernelResult& res) {
+  if (res.refined) [[unlikely]] return res.refined_moments.volume;
   return res.x_inside ? std::abs(fr.det6_sub) * (1.0 / 6.0) : res.ref_volume * std::abs(fr.det6);
 }
 
 Moments original_moments(const Frame& fr, const KernelResult& res) {
+  if (res.refined) [[unlikely]] return res.refined_moments;
   Moments m;
   if (res.x_inside) {  // X itself: volume and centroid from its vertices (original_volume)
     const Tet& s = *fr.sub;

@@ -17,12 +17,28 @@
 #include "kernel.hpp"
 #include "kernel_result.hpp"
 #include "moments.hpp"
+#include "refined_clip.hpp"
 #include "rescale.hpp"
 #include "tetia/tet_intersection.hpp"
 
 namespace tetia::detail {
 
 namespace {
+
+double coordinate_magnitude(const double (&C)[4][4]) {  // the largest of 1 and the |coordinates|
+#if TETIA_KERNEL_SSE2
+  const __m128d sign = _mm_set1_pd(-0.0);
+  __m128d m = _mm_set1_pd(1.0);
+  for (int i = 0; i < 4; ++i)
+    m = _mm_max_pd(m, _mm_max_pd(_mm_andnot_pd(sign, _mm_loadu_pd(C[i])), _mm_andnot_pd(sign, _mm_loadu_pd(C[i] + 2))));
+  return _mm_cvtsd_f64(_mm_max_sd(m, _mm_unpackhi_pd(m, m)));
+#else
+  double scale = 1.0;
+  for (int i = 0; i < 4; ++i)
+    for (int p = 0; p < 4; ++p) scale = std::max(scale, std::abs(C[i][p]));
+  return scale;
+#endif
+}
 
 // Runs the kernel on a prepared frame. Returns false if the labels do not close up into a
 // simple polytope (see Kernel::run and build_facets); the result is then empty.
@@ -50,6 +66,13 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
   if (positive != 0xFu) {
     res.set_empty();
     res.contradiction = false;
+    // Certain where X lies strictly on the negative side of a plane of Y (coordinates that
+    // are not snapped to 0 have certain signs, barycentric_map.hpp); where a coordinate is 0
+    // (on the plane, or within rounding of it) solve_with checks the accuracy.
+    unsigned nonnegative = 0;
+    for (int i = 0; i < 4; ++i)
+      for (int p = 0; p < 4; ++p) nonnegative |= unsigned(C[i][p] >= 0.0) << p;
+    res.certainly_empty = nonnegative != 0xFu;
     return true;
   }
   if (stats) {
@@ -61,20 +84,7 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
     k.run(res);
     res.contradiction = !k.consistent();
   }
-  if constexpr (kFull) {  // the largest of 1 and the |coordinates| (finite here: make_frame)
-#if TETIA_KERNEL_SSE2
-    const __m128d sign = _mm_set1_pd(-0.0);
-    __m128d m = _mm_set1_pd(1.0);
-    for (int i = 0; i < 4; ++i)
-      m = _mm_max_pd(m, _mm_max_pd(_mm_andnot_pd(sign, _mm_loadu_pd(C[i])), _mm_andnot_pd(sign, _mm_loadu_pd(C[i] + 2))));
-    res.coordinate_scale = _mm_cvtsd_f64(_mm_max_sd(m, _mm_unpackhi_pd(m, m)));
-#else
-    double scale = 1.0;
-    for (int i = 0; i < 4; ++i)
-      for (int p = 0; p < 4; ++p) scale = std::max(scale, std::abs(C[i][p]));
-    res.coordinate_scale = scale;
-#endif
-  }
+  if constexpr (kFull) res.coordinate_scale = coordinate_magnitude(C);  // finite here: make_frame
   // X inside Y: its four vertices are the corners (algorithm2.hpp adds the vertices of X first
   // and returns right after them when all four are inside, so a fourth corner that is a
   // vertex of X means all four are).
@@ -85,6 +95,57 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
     res.set_empty();
     return false;
   }
+  return true;
+}
+
+// --- accuracy relative to the smaller tetrahedron -------------------------------------------
+
+// The kernel's error estimate (docs/architecture.md, "Accuracy relative to the smaller
+// tetrahedron"). Its corners are convex combinations of X's vertices or of points on X's faces
+// in the reference frame, each resolved to about eps M (M: the largest of 1 and X's
+// |coordinates|, the magnitude the kernel's sums and differences work with); moving the
+// corners of a convex polytope by d changes its volume by at most about d times its surface.
+// In original units a reference error of eps M is at most eps M sqrt(s_ref) (s: the sum of
+// squared edge lengths, so sqrt(s_ref) bounds the map's stretch), and the polytope's surface at
+// most min(s_ref, s_sub) / (2 sqrt 3) (a triangle's area is at most the sum of its squared
+// edges over 4 sqrt 3, each edge in two faces). Relative to the smaller volume |det6| / 6:
+//   estimate = sqrt(3) eps M sqrt(s_ref) min(s_ref, s_sub) / min(|det6_ref|, |det6_sub|).
+// The constant is first order only; measured against GMP on every test family and on the
+// benchmark pairs (tests/test_kernel_vs_exact.cpp; docs/architecture.md has the figures), the
+// error never exceeded 0.12 of the estimate where the estimate exceeds 1e-12. A result is
+// accepted when 0.25 estimate <= 1e-12 (a factor 2 above the worst ratio seen), else computed
+// again in the smaller tetrahedron's frame (refined_clip.hpp).
+constexpr double kEstimateConstant = 0.25 * 1.7320508075688772 * 0x1p-53 / 1e-12;
+
+// Whether the kernel's volume is certified to 1e-12 of the smaller tetrahedron by the estimate
+// above. Symmetric in U and V (the reference is), so (U, V) and (V, U) take the same way.
+bool accuracy_certified(const Frame& fr) {
+  const double smaller = std::min(std::abs(fr.det6), std::abs(fr.det6_sub));
+  return kEstimateConstant * coordinate_magnitude(fr.C) * std::sqrt(fr.s_ref) * std::min(fr.s_ref, fr.s_sub) <= smaller;
+}
+
+// The refined result (refined_clip.hpp) in the smaller tetrahedron's frame (the reference on a
+// tie, so that the choice is symmetric too). False where it is not certified either.
+[[gnu::noinline]] bool refine(const Frame& fr, KernelResult& res) {
+  const bool sub_smaller = std::abs(fr.det6_sub) < std::abs(fr.det6);
+  Moments m;
+  if (!refined_moments(sub_smaller ? *fr.sub : *fr.ref, sub_smaller ? *fr.ref : *fr.sub, sub_smaller ? fr.det6 : fr.det6_sub, m))
+    return false;
+  res.refined = true;
+  res.refined_moments = m;
+  return true;
+}
+
+// X inside Y, X thin: X's volume from its det6 in double-double, its centroid as computed.
+constexpr double kInsideQuality = 1.2e-3;
+
+[[gnu::noinline]] bool refine_inside(const Frame& fr, KernelResult& res) {
+  double det6;
+  if (!refined_det6(*fr.sub, det6)) return false;
+  const Tet& s = *fr.sub;
+  res.refined = true;
+  res.refined_moments.volume = std::abs(det6) * (1.0 / 6.0);
+  res.refined_moments.first = res.refined_moments.volume * (0.25 * (((s[0] + s[1]) + s[2]) + s[3]));
   return true;
 }
 
@@ -134,7 +195,33 @@ Outcome solve_with(const MakeFrame& make_frame, Frame& fr, KernelResult& res, In
   }
   if (stats && res.contradiction) ++stats->inconsistencies;
   if (fr.flat_to_rounding) [[unlikely]] return Outcome::exact;  // the kernel's polytope kept in res
-  if (res.num_corners == 0) return Outcome::empty;
+  // Accuracy relative to the smaller tetrahedron: X inside Y is exact (X's own volume), and so
+  // is an empty result with X strictly beyond a plane of Y; otherwise the estimate decides
+  // whether the double result stands. An empty result whose refined volume exceeds 1e-12 of
+  // the smaller tetrahedron (X across a face of a much bigger Y, within its rounding) has no
+  // corners to show for it: exact then; below that, empty is within the accuracy promised.
+  if (res.num_corners == 0) {
+    if (res.certainly_empty || accuracy_certified(fr)) return Outcome::empty;
+    if (stats) ++stats->refined;
+    const double smaller = std::min(std::abs(fr.det6), std::abs(fr.det6_sub)) * (1.0 / 6.0);
+    if (!refine(fr, res) || !(res.refined_moments.volume <= 1e-12 * smaller)) return Outcome::exact;
+    res.set_empty();
+    return Outcome::empty;
+  }
+  if (res.x_inside) {
+    // X's own volume |det6| / 6: its rounding is below 2^-49 of det6's permanent, at most
+    // (2/3) s^(3/2) (the product of three edges whose squares sum to at most s is at most
+    // (s/3)^(3/2), and the permanent has 2 sqrt(3) such products at most), so below 1e-13 of
+    // det6 where the quality |det6| / s^(3/2) is at least 2^-49 (2/3) / 1e-13 = 1.2e-3; a
+    // thinner X gets its det6 in double-double.
+    if (!(std::abs(fr.det6_sub) >= kInsideQuality * fr.s_sub * std::sqrt(fr.s_sub))) [[unlikely]] {
+      if (stats) ++stats->refined;
+      if (!refine_inside(fr, res)) return Outcome::exact;
+    }
+  } else if (!accuracy_certified(fr)) [[unlikely]] {
+    if (stats) ++stats->refined;
+    if (!refine(fr, res)) return Outcome::exact;
+  }
   const double volume = original_volume(fr, res);
   const double smaller = std::min(std::abs(fr.det6), std::abs(fr.det6_sub)) * (1.0 / 6.0);
   if (!(volume <= smaller * (1.0 + 1e-12)) || !(volume < INFINITY)) [[unlikely]] return Outcome::exact;

@@ -43,6 +43,8 @@
 // work (docs/architecture.md, "Every finite input"):
 //   rescale.hpp             exact power-of-two scaling of extreme sizes
 //   exact_fallback.hpp      the exact last resort (GMP; implemented in src/exact.cpp)
+//   refined_clip.hpp        results the kernel's estimate does not certify to 1e-12 of the
+//                           smaller tetrahedron, recomputed in that tetrahedron's frame (3D)
 //   exact_sign.hpp          exact orient2d signs and values in double arithmetic (2D)
 #include "tetia/tet_intersection.hpp"
 
@@ -85,6 +87,7 @@ IntersectionStats& IntersectionStats::operator+=(const IntersectionStats& o) {
   inconsistencies += o.inconsistencies;
   retries += o.retries;
   rescaled += o.rescaled;
+  refined += o.refined;
   exact_fallbacks += o.exact_fallbacks;
   calls += o.calls;
   return *this;

@@ -195,8 +195,8 @@ inline double nudge(double x, int ulps) {
 // ---------------------------------------------------------------------------------------------
 // Cases and families.
 
-/// How a family's error is normalized: by min(|U|, |V|) (the default) or, for slivers and a
-/// tiny tetrahedron in a big one, by max(|U|, |V|).
+/// How a family's error is normalized: by min(|U|, |V|), which every 3D family uses, or by
+/// max(|U|, |V|) (2D families that choose it, generators2d.hpp).
 enum class Norm { Min, Max };
 
 struct Case {
@@ -573,9 +573,8 @@ inline Tet sliver(Rng& g, double h, bool force_flat = false) {
 
 /// Slivers (height 1e-2 .. 1e-10) against a well-shaped tetrahedron, against a mildly flat one
 /// (volume >= 1e-3), and sharing one of their faces exactly with a well-shaped tetrahedron
-/// (touching from outside: exactly 0; or from inside). The error is relative to max(|U|, |V|),
-/// so the partner always has a volume of at least 1e-3 of its bounding cube: then 1e-12 is
-/// within reach of a backward-stable computation (|dv| ~ eps * diameter * area).
+/// (touching from outside: exactly 0; or from inside). The error is relative to the smaller
+/// volume, the sliver's (the kernel refines what its estimate does not certify).
 inline std::vector<Case> slivers() {
   Rng g(0x7e7a0009);
   std::vector<Case> v;
@@ -629,7 +628,7 @@ inline std::vector<Case> slivers() {
         break;
       }
     }
-    v.push_back(make_case(g, random_perm(g, S), T, kind, Norm::Max, exact_zero));
+    v.push_back(make_case(g, random_perm(g, S), T, kind, Norm::Min, exact_zero));
   }
   return v;
 }
@@ -687,8 +686,107 @@ inline std::vector<Case> tiny_in_big() {
       // Not too flat: the tiny one's volume at least 1e-4 of its bounding cube.
       if (volume(T) > 1e-4 * s * s * s) break;
     }
-    v.push_back(make_case(g, random_perm(g, B), random_perm(g, T), kind, Norm::Max));
+    v.push_back(make_case(g, random_perm(g, B), random_perm(g, T), kind, Norm::Min));
   }
+  return v;
+}
+
+// --- multiscale: accuracy relative to the smaller tetrahedron ---------------------------------
+
+/// A random tetrahedron of size about 1 near the origin, well shaped (quality check by volume).
+inline Tet fat_tet(Rng& g) {
+  for (;;) {
+    Tet t{random_unit(g), random_unit(g), random_unit(g), random_unit(g)};
+    if (volume(t) >= 0.05) return t;
+  }
+}
+
+/// The multiscale families, every error relative to the smaller tetrahedron (Norm::Min):
+///  - cut-1eK: a tetrahedron 10^K times smaller (K = 3, 6, 8, 10, 12, 14, 16) centred on a face,
+///    an edge or a vertex of a big one, so that one to three of its planes cut it; both are
+///    randomly rotated, so no face is axis-aligned;
+///  - inside-1eK: the same, strictly inside (exact by containment);
+///  - sliver-1eK: a sliver of relative height 10^-K (K = 3, 6, 9, 12) against a well-shaped
+///    tetrahedron that cuts it;
+///  - scale-2^k: a random overlapping pair scaled by 2^k (k = -500, -250, 250, 500; exact);
+///  - translate-2^k: a pair of size 2^(k-20) at 2^k from the origin (k = 20, 35, 50),
+///    coordinates on a grid fine enough to need every bit up to 2^(k-50).
+inline std::vector<Case> multiscale() {
+  Rng g(0x7e7a000c);
+  std::vector<Case> v;
+  static const char* const kCut[7] = {"cut-1e3", "cut-1e6", "cut-1e8", "cut-1e10", "cut-1e12", "cut-1e14", "cut-1e16"};
+  static const char* const kInside[7] = {"inside-1e3", "inside-1e6", "inside-1e8", "inside-1e10",
+                                         "inside-1e12", "inside-1e14", "inside-1e16"};
+  static const int kRatioExp[7] = {3, 6, 8, 10, 12, 14, 16};
+  for (int r = 0; r < 7; ++r)
+    for (int n = 0; n < 150; ++n) {
+      const double ratio = std::pow(10.0, kRatioExp[r]);
+      const Tet B = fat_tet(g);
+      const bool inside = n % 3 == 2;
+      // The centre: a point of a face (random weights on 1, 2 or 3 of its vertices) or inside.
+      double w[4] = {0, 0, 0, 0};
+      const int used = inside ? 4 : irand(g, 1, 3);
+      double sum = 0.0;
+      for (int k = 0; k < used; ++k) sum += (w[k] = urand(g, 0.2, 1.0));
+      Vec3 c{};
+      for (int k = 0; k < 4; ++k) c = c + (w[k] / sum) * B[static_cast<std::size_t>(k)];
+      Tet T = fat_tet(g);
+      for (Vec3& p : T) p = c + (1.0 / ratio) * p;
+      if (flat(T)) continue;
+      if (inside) {
+        bool all_in = true;  // the four vertices strictly inside B (exactly)
+        for (const Vec3& p : T)
+          for (int k = 0; k < 4; ++k) {
+            Tet F = B;
+            F[static_cast<std::size_t>(k)] = p;
+            all_in &= orient_sign(F[0], F[1], F[2], F[3]) == orient_sign(B[0], B[1], B[2], B[3]);
+          }
+        if (!all_in) continue;
+      }
+      v.push_back(make_case(g, random_perm(g, B), random_perm(g, T), inside ? kInside[r] : kCut[r]));
+    }
+  static const char* const kSliver[4] = {"sliver-1e3", "sliver-1e6", "sliver-1e9", "sliver-1e12"};
+  for (int r = 0; r < 4; ++r)
+    for (int n = 0; n < 300; ++n) {
+      const double h = std::pow(10.0, -3.0 * (r + 1));
+      Tet S;
+      do S = sliver(g, h);
+      while (flat(S));
+      Tet T;
+      do T = translate(fat_tet(g), Vec3{0.5, 0.5, 0.5} + 0.3 * random_unit(g));
+      while (exact::intersection_volume(S, T) == 0);
+      v.push_back(make_case(g, random_perm(g, S), T, kSliver[r]));
+    }
+  static const char* const kScale[4] = {"scale-2^-500", "scale-2^-250", "scale-2^250", "scale-2^500"};
+  static const int kScaleExp[4] = {-500, -250, 250, 500};
+  for (int r = 0; r < 4; ++r)
+    for (int n = 0; n < 150; ++n) {
+      const Tet A = fat_tet(g), B = translate(fat_tet(g), 0.5 * random_unit(g));
+      auto sc = [&](const Tet& t) {
+        Tet s = t;
+        for (Vec3& p : s) p = {std::ldexp(p.x, kScaleExp[r]), std::ldexp(p.y, kScaleExp[r]), std::ldexp(p.z, kScaleExp[r])};
+        return s;
+      };
+      v.push_back(make_case(g, sc(A), sc(B), kScale[r]));
+    }
+  static const char* const kTranslate[3] = {"translate-2^20", "translate-2^35", "translate-2^50"};
+  static const int kTranslateExp[3] = {20, 35, 50};
+  for (int r = 0; r < 3; ++r)
+    for (int n = 0; n < 150; ++n) {
+      const int k = kTranslateExp[r];
+      const Vec3 o{std::ldexp(double(irand(g, 1, 3)), k), std::ldexp(double(irand(g, -3, 3)), k),
+                   std::ldexp(double(irand(g, 1, 3)), k)};
+      // Vertices on the 2^-30 grid of a unit cube, scaled to 2^(k-20): bits from 2^(k+2) down to
+      // 2^(k-50), exact in a double.
+      auto place = [&](Vec3 shift) {
+        Tet t = grid_tet(g, 30, 0.0, 1.0, 1e-2);
+        for (Vec3& p : t)
+          p = o + Vec3{std::ldexp(p.x + shift.x, k - 20), std::ldexp(p.y + shift.y, k - 20), std::ldexp(p.z + shift.z, k - 20)};
+        return t;
+      };
+      const Tet A = place({0, 0, 0}), B = place({grid(g, 2, -0.25, 0.25), grid(g, 2, -0.25, 0.25), 0.0});
+      v.push_back(make_case(g, A, B, kTranslate[r]));
+    }
   return v;
 }
 
@@ -768,6 +866,7 @@ inline const std::vector<Family>& families() {
       {"Slivers", false, slivers},
       {"TinyInBig", false, tiny_in_big},
       {"Lattice", false, lattice},
+      {"Multiscale", false, multiscale},
   };
   return list;
 }

@@ -1,0 +1,346 @@
+// src/kernel/refined_clip.hpp -- the intersection's volume and first moments accurate relative
+// to the smaller tetrahedron, for the pairs whose double result the kernel cannot certify to
+// 1e-12 of it (a size ratio far from 1, a sliver): docs/architecture.md, "Accuracy relative to
+// the smaller tetrahedron".
+//
+// Why a second method: the kernel's corners are resolved to eps of the reference's frame, so
+// relative to a much smaller or much thinner tetrahedron its error is eps times the size ratio
+// or eps over the shape quality; either frame loses that much in doubles. Here the frame is the
+// smaller tetrahedron S's own barycentric coordinates, where S is the unit simplex whatever its
+// size or shape, and each face plane j of the other tetrahedron B enters only through its four
+// values at S's vertices, D[j][k] = orient3d(face j of B, s_k), evaluated in doubles where
+// their error bound certifies them and in double-double from exact differences where not
+// (planes nearly parallel to a sliver, far planes of a much bigger B). Plane j is the zero set of the linear function sum_k lambda_k D[j][k] of
+// the barycentric coordinates lambda of S, so clipping the unit simplex by the four half-spaces
+// D >= 0 is S n B exactly, up to the error of the D's (certified below 2^-47) and the rounding of the
+// clipping itself, whose coordinates lie in [0, 1]: errors of a few ulps of S, with no ratio
+// in them. The volume is the clipped volume times |det6(S)|, that determinant certified alike
+// (a sliver's det6 in doubles is off by eps over its quality).
+//
+// Contract: refined_det6(t, det6) computes det6(t) = det[t1 - t0, t2 - t0, t3 - t0] to 2^-47 of
+// itself, or returns false. refined_moments(S, B, det6_B, out) fills the volume and first moments of S n B and
+// returns true when det6(S) and every D are certified to 2^-47 of the largest of their plane
+// (error bounds below: doubles where they suffice, double-double where not), which holds for
+// size ratios up to about 2^50; false otherwise (the caller takes the exact last resort).
+// det6_B, B's det6 in doubles, gives only the sign of B's orientation (B is not flat to
+// rounding: the caller checked its quality). Sizes within the kernel's range (frame.hpp's FrameStatus): no overflow.
+// Allocation-free; not the hot path (about a microsecond).
+#pragma once
+
+#include <cmath>
+
+#include "exact_sign.hpp"  // two_sum, two_diff, two_product
+#include "tetia/geometry.hpp"
+#include "tetia/polyhedron.hpp"
+
+namespace tetia::detail {
+
+namespace refined_impl {
+
+// A double-double: hi + lo with |lo| <= ulp(hi) / 2.
+struct DD {
+  double hi, lo;
+};
+
+inline DD fast_two_sum(double a, double b) {  // |a| >= |b| or a == 0
+  const double s = a + b;
+  return {s, b - (s - a)};
+}
+
+inline DD dd_diff(double a, double b) {  // a - b exactly
+  DD r;
+  exact_sign_impl::two_diff(a, b, r.hi, r.lo);
+  return r;
+}
+
+// Products and sums of double-doubles, each with a relative error below 4 2^-106 of the
+// magnitudes involved (|a| |b| for a product, |a| + |b| for a sum): the terms dropped are
+// a.lo b.lo and the roundings of the low parts.
+inline DD dd_mul(DD a, DD b) {
+  double p, e;
+  exact_sign_impl::two_product(a.hi, b.hi, p, e);
+  e += a.hi * b.lo + a.lo * b.hi;
+  return fast_two_sum(p, e);
+}
+
+inline DD dd_add(DD a, DD b) {
+  double s, e, t, f;
+  exact_sign_impl::two_sum(a.hi, b.hi, s, e);
+  exact_sign_impl::two_sum(a.lo, b.lo, t, f);
+  e += t;
+  const DD u = fast_two_sum(s, e);
+  return fast_two_sum(u.hi, u.lo + f);
+}
+
+inline DD dd_neg(DD a) { return {-a.hi, -a.lo}; }
+
+// orient3d(a, b, c, d) = det[b - a, c - a, d - a] = ((b - a) x (c - a)) . (d - a), and its
+// permanent P (the same products in absolute value). In doubles the error is below
+// kDoubleError P: the differences carry one rounding each, the cross product's terms one more
+// and its difference another (4 u of its terms, u = 2^-53), the product with d - a two more and
+// the dot product's two sums one each: 8 u P to first order, and 2^-49 = 16 u allows for the
+// rest. In double-double from the exact differences the error is below kDoubleDoubleError P:
+// each product and sum of double-doubles is within 4 u^2 of the magnitudes involved, 20 u^2 in
+// all (2^-101.7), and 2^-98 allows for the rest.
+constexpr double kDoubleError = 0x1p-49;
+constexpr double kDoubleDoubleError = 0x1p-98;
+
+// The face's normal (b - a) x (c - a), in doubles (n) and in double-double (dd, filled by
+// refine()), with its terms in absolute value for the permanent.
+struct Face {
+  Vec3 a, b, c;
+  double n[3];
+  double abs_terms[3];
+  DD dd[3];
+
+  Face(const Vec3& a_, const Vec3& b_, const Vec3& c_) : a(a_), b(b_), c(c_) {
+    const Vec3 u = b - a, v = c - a;
+    n[0] = u.y * v.z - u.z * v.y;
+    n[1] = u.z * v.x - u.x * v.z;
+    n[2] = u.x * v.y - u.y * v.x;
+    abs_terms[0] = std::abs(u.y * v.z) + std::abs(u.z * v.y);
+    abs_terms[1] = std::abs(u.z * v.x) + std::abs(u.x * v.z);
+    abs_terms[2] = std::abs(u.x * v.y) + std::abs(u.y * v.x);
+  }
+
+  void refine() {
+    const DD ux = dd_diff(b.x, a.x), uy = dd_diff(b.y, a.y), uz = dd_diff(b.z, a.z);
+    const DD vx = dd_diff(c.x, a.x), vy = dd_diff(c.y, a.y), vz = dd_diff(c.z, a.z);
+    dd[0] = dd_add(dd_mul(uy, vz), dd_neg(dd_mul(uz, vy)));
+    dd[1] = dd_add(dd_mul(uz, vx), dd_neg(dd_mul(ux, vz)));
+    dd[2] = dd_add(dd_mul(ux, vy), dd_neg(dd_mul(uy, vx)));
+  }
+
+  // orient3d(a, b, c, d) in doubles, with its permanent (enlarged by 2^-50 of itself for the
+  // rounding of the permanent's own evaluation).
+  double orient(const Vec3& d, double& permanent) const {
+    const Vec3 w = d - a;
+    permanent = (abs_terms[0] * std::abs(w.x) + abs_terms[1] * std::abs(w.y) + abs_terms[2] * std::abs(w.z)) *
+                (1.0 + 0x1p-50);
+    return (n[0] * w.x + n[1] * w.y) + n[2] * w.z;
+  }
+
+  // orient3d(a, b, c, d) in double-double (after refine()), rounded to a double.
+  double orient_refined(const Vec3& d) const {
+    const DD wx = dd_diff(d.x, a.x), wy = dd_diff(d.y, a.y), wz = dd_diff(d.z, a.z);
+    const DD s = dd_add(dd_add(dd_mul(dd[0], wx), dd_mul(dd[1], wy)), dd_mul(dd[2], wz));
+    return s.hi + s.lo;
+  }
+};
+
+// Each orientation is wanted to 2^-47 of the largest of its plane's four (the plane's position
+// in S's frame to about that relative to S): doubles where their bound allows it, double-double
+// where not; false where neither does (the exact last resort decides).
+constexpr double kWanted = 0x1p-47;
+
+// The four orientations of face f at the points p[0..3] (out), to kWanted of the largest.
+inline bool certified_orientations(Face& f, const Vec3* p, int count, double* out) {
+  double largest = 0.0, permanent = 0.0;
+  for (int k = 0; k < count; ++k) {
+    double perm;
+    out[k] = f.orient(p[k], perm);
+    permanent = std::max(permanent, perm);
+    largest = std::max(largest, std::abs(out[k]));
+  }
+  if (kDoubleError * permanent <= kWanted * largest) return true;
+  f.refine();
+  largest = 0.0;
+  for (int k = 0; k < count; ++k) largest = std::max(largest, std::abs(out[k] = f.orient_refined(p[k])));
+  // 2^-1000: what underflow can take from the double-double's low parts.
+  return kDoubleDoubleError * permanent + 0x1p-1000 <= kWanted * largest;
+}
+
+// The clipped polytope: a simple polytope (three edges at every vertex), each vertex's
+// neighbours in one rotational order, as in r3d's representation; positions are barycentric
+// coordinates in S (four, summing to 1 up to rounding).
+struct ClipPoly {
+  static constexpr int kMax = 64;  // a tetrahedron clipped by four planes has at most 12 vertices
+  double lam[kMax][4];
+  int nbr[kMax][3];
+  int n = 0;
+};
+
+inline void unit_simplex(ClipPoly& P) {
+  // Neighbours in the order with det[n0 - v, n1 - v, n2 - v] < 0 in (lambda1, lambda2,
+  // lambda3), the same rotational sense at every vertex.
+  static constexpr int kNbr[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
+  P.n = 4;
+  for (int v = 0; v < 4; ++v)
+    for (int k = 0; k < 4; ++k) P.lam[v][k] = v == k ? 1.0 : 0.0;
+  for (int v = 0; v < 4; ++v)
+    for (int i = 0; i < 3; ++i) P.nbr[v][i] = kNbr[v][i];
+}
+
+// Keeps the part of P where sum_k lambda_k d[k] >= 0. Returns false if nothing is left with a
+// positive value (the polytope is empty or flat). A vertex with value 0 is kept; new vertices
+// are made on the edges from a kept vertex to a removed one, then linked around the new face.
+inline bool clip(ClipPoly& P, const double (&d)[4]) {
+  double sd[ClipPoly::kMax];
+  bool any_out = false, any_pos = false;
+  for (int v = 0; v < P.n; ++v) {
+    const double* l = P.lam[v];
+    sd[v] = ((l[0] * d[0] + l[1] * d[1]) + l[2] * d[2]) + l[3] * d[3];
+    any_out |= sd[v] < 0.0;
+    any_pos |= sd[v] > 0.0;
+  }
+  if (!any_pos) {
+    P.n = 0;
+    return false;
+  }
+  if (!any_out) return true;
+  const int old_n = P.n;
+  for (int v = 0; v < old_n; ++v) {
+    if (sd[v] < 0.0) continue;
+    for (int i = 0; i < 3; ++i) {
+      const int w = P.nbr[v][i];
+      if (w >= old_n || !(sd[w] < 0.0)) continue;
+      if (P.n == ClipPoly::kMax) {  // cannot happen for a simple polytope; give up safely
+        P.n = 0;
+        return false;
+      }
+      const int m = P.n++;
+      // t in [0, 1): sd[v] >= 0 > sd[w]; the point is a convex combination of v and w.
+      const double t = sd[v] / (sd[v] - sd[w]);
+      for (int k = 0; k < 4; ++k) P.lam[m][k] = P.lam[v][k] + t * (P.lam[w][k] - P.lam[v][k]);
+      P.nbr[m][0] = v;
+      P.nbr[m][1] = P.nbr[m][2] = -1;
+      P.nbr[v][i] = m;
+      sd[m] = 0.0;
+    }
+  }
+  // Link the new vertices: from new vertex m along the face on one side of its edge to v, the
+  // walk around that face reaches the next new vertex.
+  for (int m = old_n; m < P.n; ++m) {
+    int prev = m, cur = P.nbr[m][0];
+    for (int guard = 0; cur < old_n && guard < 4 * ClipPoly::kMax; ++guard) {
+      int j = 0;
+      while (j < 3 && P.nbr[cur][j] != prev) ++j;
+      if (j == 3) {
+        P.n = 0;
+        return false;
+      }
+      prev = cur;
+      cur = P.nbr[cur][(j + 1) % 3];
+    }
+    if (cur < old_n) {
+      P.n = 0;
+      return false;
+    }
+    P.nbr[m][2] = cur;
+    P.nbr[cur][1] = m;
+  }
+  // Compact: drop the removed vertices.
+  int map[ClipPoly::kMax];
+  int k = 0;
+  for (int v = 0; v < P.n; ++v) {
+    map[v] = sd[v] < 0.0 ? -1 : k;
+    if (map[v] >= 0) {
+      if (k != v)
+        for (int c = 0; c < 4; ++c) P.lam[k][c] = P.lam[v][c];
+      for (int i = 0; i < 3; ++i) P.nbr[k][i] = P.nbr[v][i];
+      ++k;
+    }
+  }
+  P.n = k;
+  for (int v = 0; v < P.n; ++v)
+    for (int i = 0; i < 3; ++i) {
+      const int w = P.nbr[v][i];
+      if (w < 0 || map[w] < 0) {
+        P.n = 0;
+        return false;
+      }
+      P.nbr[v][i] = map[w];
+    }
+  return true;
+}
+
+// Volume and first moments (in lambda1..lambda3, the unit simplex having volume 1/6) by fans
+// over the faces, each joined to the mean of the vertices and taken in absolute value (a convex
+// polytope: every such pyramid is non-negative), as the kernel's fan_moments does.
+inline void clip_moments(const ClipPoly& P, double& vol, double (&first)[3]) {
+  vol = 0.0;
+  first[0] = first[1] = first[2] = 0.0;
+  if (P.n < 4) return;
+  double o[3] = {0.0, 0.0, 0.0};
+  for (int v = 0; v < P.n; ++v)
+    for (int c = 0; c < 3; ++c) o[c] += P.lam[v][c + 1];
+  for (double& x : o) x /= P.n;
+  bool used[ClipPoly::kMax][3] = {};
+  double vol6 = 0.0, m[3] = {0.0, 0.0, 0.0};
+  for (int v0 = 0; v0 < P.n; ++v0)
+    for (int i0 = 0; i0 < 3; ++i0) {
+      if (used[v0][i0]) continue;
+      // The face through the directed edge v0 -> nbr[v0][i0].
+      int face[ClipPoly::kMax];
+      int len = 0;
+      int a = v0, ia = i0;
+      do {
+        used[a][ia] = true;
+        face[len++] = a;
+        const int b = P.nbr[a][ia];
+        int j = 0;
+        while (P.nbr[b][j] != a) ++j;
+        a = b;
+        ia = (j + 1) % 3;
+      } while (!(a == v0 && ia == i0) && len < ClipPoly::kMax);
+      const double* p0 = P.lam[face[0]];
+      const double ax = p0[1] - o[0], ay = p0[2] - o[1], az = p0[3] - o[2];
+      double fv = 0.0, fm[3] = {0.0, 0.0, 0.0};
+      for (int k = 1; k + 1 < len; ++k) {
+        const double* p1 = P.lam[face[k]];
+        const double* p2 = P.lam[face[k + 1]];
+        const double bx = p1[1] - o[0], by = p1[2] - o[1], bz = p1[3] - o[2];
+        const double cx = p2[1] - o[0], cy = p2[2] - o[1], cz = p2[3] - o[2];
+        const double d = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+        fv += d;
+        for (int c = 0; c < 3; ++c) fm[c] += d * (o[c] + p0[c + 1] + p1[c + 1] + p2[c + 1]);
+      }
+      const double s = fv < 0.0 ? -1.0 : 1.0;
+      vol6 += s * fv;
+      for (int c = 0; c < 3; ++c) m[c] += s * fm[c];
+    }
+  vol = vol6 / 6.0;
+  for (int c = 0; c < 3; ++c) first[c] = m[c] / 24.0;
+}
+
+}  // namespace refined_impl
+
+// det6(t) = orient3d(t0, t1, t2, t3), certified to 2^-47 of itself; false where it is not.
+inline bool refined_det6(const Tet& t, double& det6) {
+  refined_impl::Face f(t[0], t[1], t[2]);
+  return refined_impl::certified_orientations(f, &t[3], 1, &det6);
+}
+
+inline bool refined_moments(const Tet& S, const Tet& B, double det6_B, Moments& out) {
+  using namespace refined_impl;
+  static constexpr int kFaceVerts[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+  double det6_S;
+  if (!refined_det6(S, det6_S)) return false;
+  ClipPoly P;
+  unit_simplex(P);
+  for (int j = 0; j < 4; ++j) {
+    // Face j of B oriented so that B's vertex j is on its positive side:
+    // orient3d(f0, f1, f2, b_j) = (-1)^(j+1) det6(B) (barycentric_map.hpp).
+    Face f(B[kFaceVerts[j][0]], B[kFaceVerts[j][1]], B[kFaceVerts[j][2]]);
+    double d[4];
+    if (!certified_orientations(f, S.data(), 4, d)) return false;
+    if (((j % 2 == 0) ? -det6_B : det6_B) < 0.0)
+      for (double& x : d) x = -x;
+    if (!clip(P, d)) break;
+  }
+  double vol_ref, first_ref[3];
+  clip_moments(P, vol_ref, first_ref);
+  const double scale = std::abs(det6_S);
+  out.volume = vol_ref * scale;
+  if (!(out.volume > 0.0)) {
+    out = Moments{};
+    return true;
+  }
+  // Back to the caller's coordinates: lambda_k weighs s_k, the mean lambda of the polytope is
+  // first_ref / vol_ref, so the first moment is volume * s_0 + scale * sum_k first_ref_k (s_k - s_0).
+  const Vec3 e1 = S[1] - S[0], e2 = S[2] - S[0], e3 = S[3] - S[0];
+  out.first = out.volume * S[0] + scale * (first_ref[0] * e1 + first_ref[1] * e2 + first_ref[2] * e3);
+  return true;
+}
+
+}  // namespace tetia::detail
