@@ -37,6 +37,9 @@
 //                            tests use), for two inputs of quality above 1e-10 (so that neither
 //                            is flat as computed, which the contract allows to give 0)
 //   vanished-overflow        the same, but the exact intersection exceeds DBL_MAX
+//   inaccurate-smaller       3D: |v - exact| > 1e-12 min(|U|, |V|) + 64 * 2^-1074 where the
+//                            smaller tetrahedron's quality is at least 2^-40 (not flat to the
+//                            rounding of its own coordinates): the accuracy the header promises
 //   inaccurate               |v - exact| > 1e-6 max(|U|, |V|) + 64 * 2^-1074 for two inputs of
 //                            quality above 1e-3 with finite volumes: a loose sanity bound (the
 //                            kernel tests hold 1e-12), so that only plainly wrong results count
@@ -201,6 +204,10 @@ inline const mpq_class& vanish_quality_sq() {
   static const mpq_class q(1, mpz_class("100000000000000000000"));  // (1e-10)^2
   return q;
 }
+inline const mpq_class& flat_quality_sq() {  // (2^-40)^2
+  static const mpq_class q(1, mpz_class(1) << 80);
+  return q;
+}
 inline const mpq_class& accuracy_quality_sq() {
   static const mpq_class q(1, 1000000);  // (1e-3)^2
   return q;
@@ -305,6 +312,19 @@ std::string judge(const Shape& X, const Shape& Y, const std::string& measure,
         add("vanished",
             measure + " = 0, but the exact intersection is " + num(ed) + exact_measures);
       return report;
+    }
+  }
+  if constexpr (std::is_same_v<Shape, Tet>) {
+    // 3D: within 1e-12 of the smaller tetrahedron whenever that one is not flat to the rounding
+    // of its own coordinates (quality at least 2^-40, the kernel's kFlatQuality).
+    const bool x_smaller = ex <= ey;
+    if (std::isfinite(v) && std::isfinite(vmin) &&
+        quality_at_least(x_smaller ? X : Y, x_smaller ? ex : ey, flat_quality_sq())) {
+      const double ed = round_to_double(exact());
+      const double tol = 1e-12 * vmin + 64 * std::numeric_limits<double>::denorm_min();
+      if (std::isfinite(ed) && std::abs(v - ed) > tol)
+        add("inaccurate-smaller", measure + " = " + num(v) + ", exact " + num(ed) + ", error " +
+                                      num(std::abs(v - ed)) + " > 1e-12 of the smaller" + exact_measures);
     }
   }
   if (vanish_shaped && std::isfinite(v) && std::isfinite(vx) && std::isfinite(vy) &&

@@ -6,16 +6,20 @@
 //    check input at the boundary (the CLI and the mesh readers do).
 //  - Any finite input, from subnormal to 1e308 coordinates, gives a finite result: the volume is
 //    >= 0 and at most min(|U|, |V|) (1 + 1e-12), and it is 0 (or infinite) only when the exact
-//    volume rounds to that. An exactly flat tetrahedron gives an empty result. Extreme sizes
-//    are rescaled by an exact power of two; what the double computation does not certify (a
+//    volume is within the accuracy below of 0 (or rounds to infinity). An exactly flat
+//    tetrahedron gives an empty result. Extreme sizes are rescaled by an exact power of two; what the double computation does not certify (a
 //    frame that is flat or not finite in doubles for finite input, a tetrahedron flat to the
 //    rounding of its own coordinates, labels that close with neither reference, a volume that is
 //    not finite or exceeds the smaller tetrahedron) is computed exactly (GMP) and rounded once;
 //    the statistics count it. A tetrahedron inside the other is returned exactly.
-//  - Accuracy: within 1e-12 of the exact volume relative to the smaller tetrahedron on the
-//    tested families; where one tetrahedron is far smaller and cut by the other's faces, or a
-//    sliver, the error is about eps times the size ratio or the inverse relative height
-//    (docs/architecture.md, "Limit: very different sizes, and slivers").
+//  - Accuracy: within 1e-12 of the exact volume relative to the smaller tetrahedron, at any
+//    size ratio, sliver height, scale or distance from the origin, wherever the smaller one is
+//    not flat to the rounding of its own coordinates (shape quality above 2^-40, below which the
+//    exact last resort decides). Every double result carries an error estimate; what it does
+//    not certify is computed again in the smaller tetrahedron's own frame, in double-double
+//    where needed (IntersectionStats::refined; beyond a size ratio of about 2^50, exactly).
+//    The estimate's constant is calibrated against GMP on the test families, not proven
+//    (docs/architecture.md, "Accuracy relative to the smaller tetrahedron").
 //  - The result is consistent: its corners and facets form a closed polytope whose facets are
 //    built from labels alone, so a real intersection cannot vanish through rounding
 //    (Theorem 6 and Corollary 2 of the paper).

@@ -119,6 +119,25 @@ struct BarycentricMap {
   // kErrBound times the permanent, else exactly 0. Then u equal to vertex k (the last such k)
   // gets the unit coordinates of that vertex.
   void operator()(Vec3 u, double (&out)[4]) const {
+    LargestDet unused{};
+    map<false>(u, out, unused);
+  }
+
+  // The running maximum of |det| over coordinates (map<true>), two lanes with SSE2.
+#if TETIA_KERNEL_SSE2
+  using LargestDet = __m128d;
+  static double largest(LargestDet m) { return _mm_cvtsd_f64(_mm_max_sd(m, _mm_unpackhi_pd(m, m))); }
+#else
+  using LargestDet = double;
+  static double largest(LargestDet m) { return m; }
+#endif
+
+  // The same, and with kMax, largest_det = max(largest_det, |det| of each coordinate before the
+  // snapping) (start from LargestDet{}, read with largest()): times |1 / det6| that is the
+  // largest |coordinate| computed, the magnitude the kernel's error estimate needs (solve.hpp),
+  // at the cost of one max per two coordinates.
+  template <bool kMax>
+  void map(Vec3 u, double (&out)[4], LargestDet& largest_det) const {
     unsigned same = 0;  // bit k: u == vertex k
 #if TETIA_KERNEL_SSE2
     const __m128d ux = _mm_set1_pd(u.x), uy = _mm_set1_pd(u.y), uz = _mm_set1_pd(u.z);
@@ -132,7 +151,9 @@ struct BarycentricMap {
           _mm_add_pd(_mm_add_pd(_mm_mul_pd(_mm_andnot_pd(sign, wx), _mm_load_pd(px + h)),
                                 _mm_mul_pd(_mm_andnot_pd(sign, wy), _mm_load_pd(py + h))),
                      _mm_mul_pd(_mm_andnot_pd(sign, wz), _mm_load_pd(pz + h)));
-      const __m128d keep = _mm_cmpgt_pd(_mm_andnot_pd(sign, det), _mm_max_pd(_mm_mul_pd(bound, perm), _mm_load_pd(tiny)));
+      const __m128d abs_det = _mm_andnot_pd(sign, det);
+      if constexpr (kMax) largest_det = _mm_max_pd(largest_det, abs_det);
+      const __m128d keep = _mm_cmpgt_pd(abs_det, _mm_max_pd(_mm_mul_pd(bound, perm), _mm_load_pd(tiny)));
       _mm_storeu_pd(out + h, _mm_and_pd(keep, _mm_mul_pd(det, _mm_load_pd(scale + h))));
       same |= unsigned(_mm_movemask_pd(_mm_cmpeq_pd(ux, _mm_load_pd(vx + h)))) << h;  // x only, first
     }
@@ -149,6 +170,7 @@ struct BarycentricMap {
       const double wx = u.x - ax[k], wy = u.y - ay[k], wz = u.z - az[k];
       const double det = wx * nx[k] + wy * ny[k] + wz * nz[k];
       const double permanent = std::abs(wx) * px[k] + std::abs(wy) * py[k] + std::abs(wz) * pz[k];
+      if constexpr (kMax) largest_det = std::max(largest_det, std::abs(det));
       out[k] = std::abs(det) > std::max(kErrBound * permanent, tiny[0]) ? det * scale[k] : 0.0;
       same |= unsigned(u.x == vx[k] && u.y == vy[k] && u.z == vz[k]) << k;
     }

@@ -106,6 +106,7 @@ struct Frame {
   double det6_sub;  // the same for the other tetrahedron (solve_with's test of the result)
   double size_squared_max;  // the larger sum of squared edge lengths (the rescaling's choice)
   double s_ref, s_sub;      // the sums of squared edge lengths of each (the error estimate)
+  double coordinate_max;    // the largest of 1 and X's |coordinates| before snapping (the same)
   bool flat_to_rounding;    // U or V has a quality below kFlatQuality (frame_from)
   double C[4][4];
 };
@@ -159,12 +160,15 @@ FrameStatus frame_from(const Tet& U, const Conditioning& cu, const BarycentricMa
   fr.det6_sub = use_u ? cv.det6 : cu.det6;
   fr.s_ref = use_u ? cu.s : cv.s;
   fr.s_sub = use_u ? cv.s : cu.s;
+  BarycentricMap::LargestDet largest_det{};
+  const double inv_det6 = use_u ? cu.inv_det6 : cv.inv_det6;
   if (use_u && map_u) {
-    for (int i = 0; i < 4; ++i) (*map_u)((*fr.sub)[i], fr.C[i]);
+    for (int i = 0; i < 4; ++i) map_u->map<true>((*fr.sub)[i], fr.C[i], largest_det);
   } else {
-    const BarycentricMap bary(*fr.ref, use_u ? cu.inv_det6 : cv.inv_det6);
-    for (int i = 0; i < 4; ++i) bary((*fr.sub)[i], fr.C[i]);
+    const BarycentricMap bary(*fr.ref, inv_det6);
+    for (int i = 0; i < 4; ++i) bary.map<true>((*fr.sub)[i], fr.C[i], largest_det);
   }
+  fr.coordinate_max = std::max(1.0, BarycentricMap::largest(largest_det) * std::abs(inv_det6));
   // The sum of 0 * coordinate stays 0 unless a coordinate is infinite or NaN (in any order).
 #if TETIA_KERNEL_SSE2
   const __m128d z = _mm_setzero_pd();

@@ -28,6 +28,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 
 #include "exact_sign.hpp"  // two_sum, two_diff, two_product
 #include "tetia/geometry.hpp"
@@ -152,12 +153,15 @@ inline bool certified_orientations(Face& f, const Vec3* p, int count, double* ou
 
 // The clipped polytope: a simple polytope (three edges at every vertex), each vertex's
 // neighbours in one rotational order, as in r3d's representation; positions are barycentric
-// coordinates in S (four, summing to 1 up to rounding).
+// coordinates in S (four, summing to 1 up to rounding). Clipped vertices are only marked dead
+// (no compaction): four planes add at most 4 x 12 vertices to the simplex's 4.
 struct ClipPoly {
-  static constexpr int kMax = 64;  // a tetrahedron clipped by four planes has at most 12 vertices
+  static constexpr int kMax = 64;
   double lam[kMax][4];
   int nbr[kMax][3];
+  bool dead[kMax];
   int n = 0;
+  bool failed = false;  // the structure broke (never for a simple polytope): not certified
 };
 
 inline void unit_simplex(ClipPoly& P) {
@@ -165,10 +169,11 @@ inline void unit_simplex(ClipPoly& P) {
   // lambda3), the same rotational sense at every vertex.
   static constexpr int kNbr[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
   P.n = 4;
-  for (int v = 0; v < 4; ++v)
+  for (int v = 0; v < 4; ++v) {
     for (int k = 0; k < 4; ++k) P.lam[v][k] = v == k ? 1.0 : 0.0;
-  for (int v = 0; v < 4; ++v)
     for (int i = 0; i < 3; ++i) P.nbr[v][i] = kNbr[v][i];
+    P.dead[v] = false;
+  }
 }
 
 // Keeps the part of P where sum_k lambda_k d[k] >= 0. Returns false if nothing is left with a
@@ -178,24 +183,22 @@ inline bool clip(ClipPoly& P, const double (&d)[4]) {
   double sd[ClipPoly::kMax];
   bool any_out = false, any_pos = false;
   for (int v = 0; v < P.n; ++v) {
+    if (P.dead[v]) continue;
     const double* l = P.lam[v];
     sd[v] = ((l[0] * d[0] + l[1] * d[1]) + l[2] * d[2]) + l[3] * d[3];
     any_out |= sd[v] < 0.0;
     any_pos |= sd[v] > 0.0;
   }
-  if (!any_pos) {
-    P.n = 0;
-    return false;
-  }
+  if (!any_pos) return false;
   if (!any_out) return true;
   const int old_n = P.n;
   for (int v = 0; v < old_n; ++v) {
-    if (sd[v] < 0.0) continue;
+    if (P.dead[v] || sd[v] < 0.0) continue;
     for (int i = 0; i < 3; ++i) {
       const int w = P.nbr[v][i];
       if (w >= old_n || !(sd[w] < 0.0)) continue;
-      if (P.n == ClipPoly::kMax) {  // cannot happen for a simple polytope; give up safely
-        P.n = 0;
+      if (P.n == ClipPoly::kMax) {
+        P.failed = true;
         return false;
       }
       const int m = P.n++;
@@ -204,78 +207,59 @@ inline bool clip(ClipPoly& P, const double (&d)[4]) {
       for (int k = 0; k < 4; ++k) P.lam[m][k] = P.lam[v][k] + t * (P.lam[w][k] - P.lam[v][k]);
       P.nbr[m][0] = v;
       P.nbr[m][1] = P.nbr[m][2] = -1;
+      P.dead[m] = false;
       P.nbr[v][i] = m;
-      sd[m] = 0.0;
     }
   }
   // Link the new vertices: from new vertex m along the face on one side of its edge to v, the
-  // walk around that face reaches the next new vertex.
+  // walk around that face through kept vertices reaches the next new vertex.
   for (int m = old_n; m < P.n; ++m) {
     int prev = m, cur = P.nbr[m][0];
-    for (int guard = 0; cur < old_n && guard < 4 * ClipPoly::kMax; ++guard) {
+    for (int guard = 0; cur < old_n; ++guard) {
       int j = 0;
       while (j < 3 && P.nbr[cur][j] != prev) ++j;
-      if (j == 3) {
-        P.n = 0;
+      if (j == 3 || guard == ClipPoly::kMax) {
+        P.failed = true;
         return false;
       }
       prev = cur;
       cur = P.nbr[cur][(j + 1) % 3];
     }
-    if (cur < old_n) {
-      P.n = 0;
-      return false;
-    }
     P.nbr[m][2] = cur;
     P.nbr[cur][1] = m;
   }
-  // Compact: drop the removed vertices.
-  int map[ClipPoly::kMax];
-  int k = 0;
-  for (int v = 0; v < P.n; ++v) {
-    map[v] = sd[v] < 0.0 ? -1 : k;
-    if (map[v] >= 0) {
-      if (k != v)
-        for (int c = 0; c < 4; ++c) P.lam[k][c] = P.lam[v][c];
-      for (int i = 0; i < 3; ++i) P.nbr[k][i] = P.nbr[v][i];
-      ++k;
-    }
-  }
-  P.n = k;
-  for (int v = 0; v < P.n; ++v)
-    for (int i = 0; i < 3; ++i) {
-      const int w = P.nbr[v][i];
-      if (w < 0 || map[w] < 0) {
-        P.n = 0;
-        return false;
-      }
-      P.nbr[v][i] = map[w];
-    }
+  for (int v = 0; v < old_n; ++v) P.dead[v] = P.dead[v] || sd[v] < 0.0;
   return true;
 }
 
 // Volume and first moments (in lambda1..lambda3, the unit simplex having volume 1/6) by fans
 // over the faces, each joined to the mean of the vertices and taken in absolute value (a convex
 // polytope: every such pyramid is non-negative), as the kernel's fan_moments does.
-inline void clip_moments(const ClipPoly& P, double& vol, double (&first)[3]) {
+// kMoments: the first moments too (the volume is the same number either way).
+template <bool kMoments>
+void clip_moments(const ClipPoly& P, double& vol, double (&first)[3]) {
   vol = 0.0;
   first[0] = first[1] = first[2] = 0.0;
-  if (P.n < 4) return;
+  int alive = 0;
   double o[3] = {0.0, 0.0, 0.0};
-  for (int v = 0; v < P.n; ++v)
+  for (int v = 0; v < P.n; ++v) {
+    if (P.dead[v]) continue;
+    ++alive;
     for (int c = 0; c < 3; ++c) o[c] += P.lam[v][c + 1];
-  for (double& x : o) x /= P.n;
-  bool used[ClipPoly::kMax][3] = {};
+  }
+  if (alive < 4) return;
+  for (double& x : o) x /= alive;
+  std::uint64_t used[3] = {0, 0, 0};  // bit v of used[i]: the directed edge v -> nbr[v][i] walked
   double vol6 = 0.0, m[3] = {0.0, 0.0, 0.0};
   for (int v0 = 0; v0 < P.n; ++v0)
     for (int i0 = 0; i0 < 3; ++i0) {
-      if (used[v0][i0]) continue;
+      if (P.dead[v0] || (used[i0] >> v0 & 1u)) continue;
       // The face through the directed edge v0 -> nbr[v0][i0].
       int face[ClipPoly::kMax];
       int len = 0;
       int a = v0, ia = i0;
       do {
-        used[a][ia] = true;
+        used[ia] |= std::uint64_t{1} << a;
         face[len++] = a;
         const int b = P.nbr[a][ia];
         int j = 0;
@@ -293,11 +277,13 @@ inline void clip_moments(const ClipPoly& P, double& vol, double (&first)[3]) {
         const double cx = p2[1] - o[0], cy = p2[2] - o[1], cz = p2[3] - o[2];
         const double d = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
         fv += d;
-        for (int c = 0; c < 3; ++c) fm[c] += d * (o[c] + p0[c + 1] + p1[c + 1] + p2[c + 1]);
+        if constexpr (kMoments)
+          for (int c = 0; c < 3; ++c) fm[c] += d * (o[c] + p0[c + 1] + p1[c + 1] + p2[c + 1]);
       }
       const double s = fv < 0.0 ? -1.0 : 1.0;
       vol6 += s * fv;
-      for (int c = 0; c < 3; ++c) m[c] += s * fm[c];
+      if constexpr (kMoments)
+        for (int c = 0; c < 3; ++c) m[c] += s * fm[c];
     }
   vol = vol6 / 6.0;
   for (int c = 0; c < 3; ++c) first[c] = m[c] / 24.0;
@@ -311,7 +297,9 @@ inline bool refined_det6(const Tet& t, double& det6) {
   return refined_impl::certified_orientations(f, &t[3], 1, &det6);
 }
 
-inline bool refined_moments(const Tet& S, const Tet& B, double det6_B, Moments& out) {
+// kMoments: the first moments too (else out.first is 0; the volume is the same number).
+template <bool kMoments = true>
+bool refined_moments(const Tet& S, const Tet& B, double det6_B, Moments& out) {
   using namespace refined_impl;
   static constexpr int kFaceVerts[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
   double det6_S;
@@ -326,10 +314,14 @@ inline bool refined_moments(const Tet& S, const Tet& B, double det6_B, Moments& 
     if (!certified_orientations(f, S.data(), 4, d)) return false;
     if (((j % 2 == 0) ? -det6_B : det6_B) < 0.0)
       for (double& x : d) x = -x;
-    if (!clip(P, d)) break;
+    if (!clip(P, d)) {
+      if (P.failed) return false;
+      out = Moments{};
+      return true;
+    }
   }
   double vol_ref, first_ref[3];
-  clip_moments(P, vol_ref, first_ref);
+  clip_moments<kMoments>(P, vol_ref, first_ref);
   const double scale = std::abs(det6_S);
   out.volume = vol_ref * scale;
   if (!(out.volume > 0.0)) {
@@ -338,6 +330,7 @@ inline bool refined_moments(const Tet& S, const Tet& B, double det6_B, Moments& 
   }
   // Back to the caller's coordinates: lambda_k weighs s_k, the mean lambda of the polytope is
   // first_ref / vol_ref, so the first moment is volume * s_0 + scale * sum_k first_ref_k (s_k - s_0).
+  if constexpr (!kMoments) return true;
   const Vec3 e1 = S[1] - S[0], e2 = S[2] - S[0], e3 = S[3] - S[0];
   out.first = out.volume * S[0] + scale * (first_ref[0] * e1 + first_ref[1] * e2 + first_ref[2] * e3);
   return true;

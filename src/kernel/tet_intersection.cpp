@@ -142,6 +142,21 @@ Moments OneToMany::moments(const Tet& t, const Conditioning& ct, unsigned* t_fac
   return original_moments(fr, res);
 }
 
+KernelEstimate kernel_estimate(const Tet& U, const Tet& V) {
+  KernelEstimate e;
+  Frame fr;
+  KernelResult res;
+  if (make_frame(U, V, fr) != FrameStatus::ok || fr.flat_to_rounding) return e;
+  if (!run_kernel<false, false>(fr.C, res, nullptr)) return e;
+  e.ran = true;
+  e.x_inside = res.x_inside;
+  e.empty = res.num_corners == 0;
+  e.volume = original_volume(fr, res);
+  e.estimate = a_priori_estimate(fr);
+  e.snapped = has_zero_coordinate(fr.C);
+  return e;
+}
+
 void trace_kernel(const double (&C)[4][4], KernelTrace& t, IntersectionStats* stats) {
   Kernel<true, true> k(C, stats);
   KernelResult res;
