@@ -302,8 +302,6 @@ template <bool kMoments = true>
 bool refined_moments(const Tet& S, const Tet& B, double det6_B, Moments& out) {
   using namespace refined_impl;
   static constexpr int kFaceVerts[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
-  double det6_S;
-  if (!refined_det6(S, det6_S)) return false;
   ClipPoly P;
   unit_simplex(P);
   for (int j = 0; j < 4; ++j) {
@@ -320,6 +318,10 @@ bool refined_moments(const Tet& S, const Tet& B, double det6_B, Moments& out) {
       return true;
     }
   }
+  // S's det6 only now: an empty intersection (the usual case among the pairs refined) does not
+  // need it.
+  double det6_S;
+  if (!refined_det6(S, det6_S)) return false;
   double vol_ref, first_ref[3];
   clip_moments<kMoments>(P, vol_ref, first_ref);
   const double scale = std::abs(det6_S);

@@ -242,7 +242,8 @@ Outcome solve_with(const MakeFrame& make_frame, Frame& fr, KernelResult& res, In
   // the smaller tetrahedron (X across a face of a much bigger Y, within its rounding) has no
   // corners to show for it: exact then; below that, empty is within the accuracy promised.
   if (res.num_corners == 0) {
-    if (res.certainly_empty || accuracy_certified(fr)) return Outcome::empty;
+    if (res.certainly_empty || accuracy_certified(fr) || (!has_zero_coordinate(fr.C) && accuracy_certified_generic(fr)))
+      return Outcome::empty;
     if (stats) ++stats->refined;
     const double smaller = std::min(std::abs(fr.det6), std::abs(fr.det6_sub)) * (1.0 / 6.0);
     if (!refine<false>(fr, res) || !(res.refined_moments.volume <= 1e-12 * smaller)) return Outcome::exact;
