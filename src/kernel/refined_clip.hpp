@@ -8,23 +8,25 @@
 // or eps over the shape quality; either frame loses that much in doubles. Here the frame is the
 // smaller tetrahedron S's own barycentric coordinates, where S is the unit simplex whatever its
 // size or shape, and each face plane j of the other tetrahedron B enters only through its four
-// values at S's vertices, D[j][k] = orient3d(face j of B, s_k), evaluated in doubles where
-// their error bound certifies them and in double-double from exact differences where not
-// (planes nearly parallel to a sliver, far planes of a much bigger B). Plane j is the zero set of the linear function sum_k lambda_k D[j][k] of
-// the barycentric coordinates lambda of S, so clipping the unit simplex by the four half-spaces
-// D >= 0 is S n B exactly, up to the error of the D's (certified below 2^-47) and the rounding of the
-// clipping itself, whose coordinates lie in [0, 1]: errors of a few ulps of S, with no ratio
-// in them. The volume is the clipped volume times |det6(S)|, that determinant certified alike
-// (a sliver's det6 in doubles is off by eps over its quality).
+// values at S's vertices, D[j][k] = orient3d(face j of B, s_k), evaluated in doubles where their
+// error bound certifies them and in double-double from exact differences where not (planes
+// nearly parallel to a sliver, far planes of a much bigger B). Plane j is the zero set of the
+// linear function sum_k lambda_k D[j][k] of the barycentric coordinates lambda of S, so clipping
+// the unit simplex by the four half-spaces D >= 0 gives S n B, up to the error of the D's
+// (certified below 2^-47) and the rounding of the clipping itself, whose coordinates lie in
+// [0, 1]: errors of a few ulps of S, with no ratio in them. The volume is the clipped volume
+// times |det6(S)|, that determinant certified alike (a sliver's det6 in doubles is off by eps
+// over its quality).
 //
 // Contract: refined_det6(t, det6) computes det6(t) = det[t1 - t0, t2 - t0, t3 - t0] to 2^-47 of
-// itself, or returns false. refined_moments(S, B, det6_B, out) fills the volume and first moments of S n B and
-// returns true when det6(S) and every D are certified to 2^-47 of the largest of their plane
-// (error bounds below: doubles where they suffice, double-double where not), which holds for
-// size ratios up to about 2^50; false otherwise (the caller takes the exact last resort).
-// det6_B, B's det6 in doubles, gives only the sign of B's orientation (B is not flat to
-// rounding: the caller checked its quality). Sizes within the kernel's range (frame.hpp's FrameStatus): no overflow.
-// Allocation-free; not the hot path (about a microsecond).
+// itself, or returns false. refined_moments(S, B, det6_B, out) fills the volume and first
+// moments of S n B and returns true when det6(S) and every D are certified to 2^-47 of the
+// largest of their plane (error bounds below: doubles where they suffice, double-double where
+// not), which holds for size ratios up to about 2^50; false otherwise (the caller takes the
+// exact last resort). det6_B, B's det6 in doubles, gives only the sign of B's orientation (B is
+// not flat to rounding: the caller checked its quality). Sizes within the kernel's range
+// (frame.hpp's FrameStatus): no overflow. Allocation-free; not the hot path (about a
+// microsecond).
 #pragma once
 
 #include <cmath>

@@ -120,11 +120,12 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
 // most min(s_ref, s_sub) / (2 sqrt 3) (a triangle's area is at most the sum of its squared
 // edges over 4 sqrt 3, each edge in two faces). Relative to the smaller volume |det6| / 6:
 //   estimate = sqrt(3) eps M sqrt(s_ref) min(s_ref, s_sub) / min(|det6_ref|, |det6_sub|).
-// The constant is first order only; measured against GMP on every test family and on the
-// benchmark pairs (tests/test_kernel_vs_exact.cpp; docs/architecture.md has the figures), the
-// error never exceeded 0.12 of the estimate where the estimate exceeds 1e-12. A result is
-// accepted when 0.25 estimate <= 1e-12 (a factor 2 above the worst ratio seen), else computed
-// again in the smaller tetrahedron's frame (refined_clip.hpp).
+// The constant is first order only, and calibrated: against GMP on every test family and on
+// unit-cube pairs (KernelVsExact.ErrorEstimate; docs/architecture.md has the figures), where the
+// estimate is a tenth to a hundred times the threshold (where the decision is made) the error
+// was at most 0.097 of it. A result is accepted when 0.25 estimate <= 1e-12 (0.08 without a
+// zero coordinate, below), else computed again in the smaller tetrahedron's frame
+// (refined_clip.hpp).
 constexpr double kEstimateConstant = 0.25 * 1.7320508075688772 * 0x1p-53 / 1e-12;
 
 // Whether the kernel's volume is certified to 1e-12 of the smaller tetrahedron by the estimate
@@ -157,7 +158,7 @@ bool has_zero_coordinate(const double (&C)[4][4]) {
   return zero;
 }
 
-// The a-priori estimate without its acceptance factor (kernel_estimate, for the tests).
+// The estimate without its acceptance factor (kernel_estimate, for the tests).
 double a_priori_estimate(const Frame& fr) {
   const double smaller = std::min(std::abs(fr.det6), std::abs(fr.det6_sub));
   return 1.7320508075688772 * 0x1p-53 * fr.coordinate_max * std::sqrt(fr.s_ref) * std::min(fr.s_ref, fr.s_sub) /
@@ -170,8 +171,9 @@ template <bool kMoments>
 [[gnu::noinline]] bool refine(const Frame& fr, KernelResult& res) {
   const bool sub_smaller = std::abs(fr.det6_sub) < std::abs(fr.det6);
   Moments m;
-  if (!refined_moments<kMoments>(sub_smaller ? *fr.sub : *fr.ref, sub_smaller ? *fr.ref : *fr.sub, sub_smaller ? fr.det6 : fr.det6_sub, m))
-    return false;
+  const Tet& smaller = sub_smaller ? *fr.sub : *fr.ref;
+  const Tet& other = sub_smaller ? *fr.ref : *fr.sub;
+  if (!refined_moments<kMoments>(smaller, other, sub_smaller ? fr.det6 : fr.det6_sub, m)) return false;
   res.refined = true;
   res.refined_moments = m;
   return true;
