@@ -167,7 +167,8 @@ void write_supermesh_vtu(const std::string& file, const typename Kind<Mesh>::Res
   Mesh out;
   std::vector<std::int64_t> piece, source, target;
   std::vector<double> measure;
-  const auto tag = [](const Mesh& m, std::int32_t c) {
+  const auto tag = [](const Mesh& m, std::int32_t c) {  // a split file cell's simplices: the file cell's tag
+    if (!m.cell_origin.empty()) return m.origin_tags[static_cast<std::size_t>(m.cell_origin[static_cast<std::size_t>(c)])];
     return m.cell_tags.empty() ? std::int64_t{c} + 1 : m.cell_tags[static_cast<std::size_t>(c)];
   };
   const auto add = [&](std::size_t k, const auto& simplex) {

@@ -326,7 +326,14 @@ void vtu(const std::filesystem::path& file, const Mesh& mesh, const std::vector<
   // The file's tags, if the mesh has them (positions would tell nothing: they are the ids VTK
   // numbers by anyway).
   data_section("PointData", "node_id", mesh.node_tags, options.point_ids, point_data);
-  data_section("CellData", "cell_id", mesh.cell_tags, options.cell_ids, cell_data);
+  if (mesh.cell_origin.empty()) {
+    data_section("CellData", "cell_id", mesh.cell_tags, options.cell_ids, cell_data);
+  } else {  // split file cells: each simplex carries its file cell's tag
+    std::vector<std::int64_t> origin(mesh.cells.size());
+    for (std::size_t c = 0; c < origin.size(); ++c)
+      origin[c] = mesh.origin_tags[static_cast<std::size_t>(mesh.cell_origin[c])];
+    data_section("CellData", "cell_id", origin, options.cell_ids, cell_data);
+  }
   {
     // 3D points are written straight from the mesh (three doubles each); 2D ones get z = 0.
     std::vector<double> xyz;

@@ -54,6 +54,16 @@ void finalize_mesh(Mesh& m, const std::string& name) {
   };
   check_tags(m.node_tags, m.nodes.size(), "node");
   check_tags(m.cell_tags, m.cells.size(), "cell");
+  if (!m.cell_origin.empty() || !m.origin_tags.empty() || !m.origin_types.empty()) {
+    if (m.cell_origin.size() != m.cells.size() || m.origin_types.size() != m.origin_tags.size() || !m.cell_tags.empty())
+      fail(name, "cell origins: " + std::to_string(m.cell_origin.size()) + " for " + std::to_string(m.cells.size()) +
+                     " cells, " + std::to_string(m.origin_tags.size()) + " file cell tags and " +
+                     std::to_string(m.origin_types.size()) + " types (cell tags must be empty then)");
+    check_tags(m.origin_tags, m.origin_types.size(), "file cell");
+    for (std::size_t c = 0; c < m.cells.size(); ++c)
+      if (m.cell_origin[c] < 0 || static_cast<std::size_t>(m.cell_origin[c]) >= m.origin_tags.size())
+        fail(name, "cell " + std::to_string(c) + ": file cell " + std::to_string(m.cell_origin[c]) + " out of range");
+  }
   auto& measures = D::measures(m);
   measures.assign(m.cells.size(), 0.0);
   m.reoriented_cells = m.flat_cells = 0;

@@ -1106,12 +1106,13 @@ TEST_F(MshReaderTest, AcceptedOddities) {
   }
 
   // Element types that are not kept: unknown ones (ASCII: the line says how long it is),
-  // quadrilaterals, hexahedra, prisms, points, lines: counted.
+  // quadrilaterals in a 3D mesh, points, lines: counted. (Hexahedra, prisms and pyramids are
+  // read: test_cell_types.cpp.)
   const std::string extra22 =
       "4 99 2 1 1 1 2 3 4 5 1 2\n"   // unknown type 99
       "5 3 2 1 1 1 2 5 3\n"          // quadrilateral
-      "6 5 2 1 1 1 2 3 4 5 1 2 3\n"  // hexahedron
-      "7 6 2 1 1 1 2 3 4 5 1\n"      // prism
+      "6 15 2 1 1 5\n"               // point
+      "7 1 2 1 1 1 2\n"              // line
       "8 15 2 1 1 4\n"               // point
       "9 1 2 1 1 4 5\n";             // line
   MeshReadInfo info;
@@ -1124,11 +1125,15 @@ TEST_F(MshReaderTest, AcceptedOddities) {
   EXPECT_EQ(tetia::read_mesh(others41, &info).cells, once.cells);
   EXPECT_EQ(info.ignored_elements, 3u);
   // Only such elements: no cells, the count in the message.
-  const std::string hex_quad = kTets22.substr(0, kTets22.find("$Elements")) +
-                               "$Elements\n2\n1 5 2 1 1 1 2 3 4 5 1 2 3\n2 3 2 1 1 1 2 5 3\n$EndElements\n";
-  expect_error("only_hex.msh", hex_quad, {"no tetrahedra or triangles (2 other elements ignored)"});
-  EXPECT_NE(error_of([&] { tetia::read_mesh(path("only_hex.msh")); }).find("no tetrahedra (2 other elements ignored)"),
+  const std::string lines_only = kTets22.substr(0, kTets22.find("$Elements")) +
+                                 "$Elements\n2\n1 1 2 1 1 1 2\n2 15 2 1 1 5\n$EndElements\n";
+  expect_error("only_lines.msh", lines_only, {"no tetrahedra or triangles (2 other elements ignored)"});
+  EXPECT_NE(error_of([&] { tetia::read_mesh(path("only_lines.msh")); }).find("no tetrahedra (2 other elements ignored)"),
             std::string::npos);
+  // A collapsed hexahedron (a node twice): its tag and line.
+  const std::string collapsed = kTets22.substr(0, kTets22.find("$Elements")) +
+                                "$Elements\n1\n7 5 2 1 1 1 2 3 4 5 1 2 3\n$EndElements\n";
+  expect_error("collapsed_hex.msh", collapsed, {"element 7: node 1 given twice (collapsed hexahedra are not supported)"});
 
   // Higher-order tetrahedra (10 nodes) and triangles (6 nodes): named as not supported.
   const std::string nodes10 =

@@ -29,6 +29,14 @@ struct TetMesh {
   /// The file's node and element tags (read_mesh fills them), one per node / cell; empty means
   /// 1, 2, ... by position. Written back by write_msh and as the VTU's node_id / cell_id.
   std::vector<std::int64_t> node_tags, cell_tags;
+  /// Where the file has hexahedra, prisms or pyramids, read_mesh splits them into tetrahedra
+  /// (conforming across shared faces, no new nodes: src/mesh/split_cells.hpp): then
+  /// cell_origin[c] is the index of cell c's file cell, whose tag is origin_tags[i] and Gmsh
+  /// element type origin_types[i] (4, 5, 6 or 7), cell_tags is empty (the tags are the file
+  /// cells'), and the file cells are in tag order. Empty: every cell is a file cell.
+  std::vector<std::int32_t> cell_origin;
+  std::vector<std::int64_t> origin_tags;
+  std::vector<std::uint8_t> origin_types;
 
   // Derived by finalize():
   std::vector<std::array<std::int32_t, 4>> neighbors;  ///< cell across face k (opposite vertex k), -1 on the boundary
@@ -52,6 +60,10 @@ struct TriMesh {
   std::vector<std::array<std::int32_t, 3>> cells;  ///< node indices, counter-clockwise after finalize
   /// As TetMesh's: the file's tags, empty for 1, 2, ...
   std::vector<std::int64_t> node_tags, cell_tags;
+  /// As TetMesh's, for quadrilaterals split into two triangles (types 2 and 3).
+  std::vector<std::int32_t> cell_origin;
+  std::vector<std::int64_t> origin_tags;
+  std::vector<std::uint8_t> origin_types;
 
   // Derived by finalize():
   std::vector<std::array<std::int32_t, 3>> neighbors;  ///< cell across edge k (opposite vertex k), -1 on the boundary

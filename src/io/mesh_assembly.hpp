@@ -300,7 +300,10 @@ std::vector<double> field_values(const std::string& name, const Extracted<Mesh>&
     io_fail(name, "field " + field_name + " has " + std::to_string(comps) + " components; only scalar fields are read here");
   const auto nc = static_cast<std::size_t>(comps);
   const TagIndex& index = on_cells ? ex.cell_index : ex.node_index;
-  const std::size_t n = on_cells ? ex.mesh.cells.size() : ex.mesh.nodes.size();
+  // Split file cells (mesh.cell_origin): the values are the file cells', given to their simplices.
+  const auto& origin = ex.mesh.cell_origin;
+  const bool by_origin = on_cells && !origin.empty();
+  const std::size_t n = by_origin ? ex.mesh.origin_tags.size() : on_cells ? ex.mesh.cells.size() : ex.mesh.nodes.size();
   std::vector<double> values(n * nc, std::numeric_limits<double>::quiet_NaN());
   std::vector<char> set(n, 0);
   for (const auto& v : views) {
@@ -315,6 +318,17 @@ std::vector<double> field_values(const std::string& name, const Extracted<Mesh>&
       std::copy_n(&v.values[i * nc], nc, &values[at * nc]);
       set[at] = 1;
     }
+  }
+  if (by_origin) {
+    std::vector<double> per_cell(origin.size() * nc);
+    for (std::size_t c = 0; c < origin.size(); ++c) {
+      const auto f = static_cast<std::size_t>(origin[c]);
+      if (!set[f])
+        io_fail(name, "field " + field_name + " has no value for element " + std::to_string(ex.mesh.origin_tags[f]));
+      std::copy_n(&values[f * nc], nc, &per_cell[c * nc]);
+    }
+    if (components != nullptr) *components = comps;
+    return per_cell;
   }
   for (std::size_t k = 0; k < n; ++k)
     if (!set[k]) io_fail(name, "field " + field_name + " has no value for " + kind + " " + std::to_string(k));

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "../mesh/split_cells.hpp"
+
 namespace tetia::detail {
 
 template <class Mesh>
@@ -48,19 +50,45 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
     if constexpr (Dm::d == 2) z[k] = p[2];
   }
 
+  // The file cells: the simplices kept, and (3D) hexahedra, prisms, pyramids or (2D)
+  // quadrilaterals, which are split into simplices below. Up to 8 node tags each.
+  struct FileCells {
+    std::vector<std::uint64_t> tags;
+    std::vector<std::array<std::uint64_t, 8>> nodes;
+    std::vector<std::uint8_t> types;
+    std::vector<std::size_t> where;
+  } fc;
+  const auto add_cells = [&](const MshCells& c, int type, std::size_t n) {
+    for (std::size_t i = 0; i < c.tags.size(); ++i) {
+      fc.tags.push_back(c.tags[i]);
+      std::array<std::uint64_t, 8> a{};
+      std::copy_n(&c.nodes[n * i], n, a.begin());
+      fc.nodes.push_back(a);
+      fc.types.push_back(static_cast<std::uint8_t>(type));
+      fc.where.push_back(c.where[i]);
+    }
+  };
+  add_cells(kept, Dm::d == 3 ? 4 : 2, nv);
+  if constexpr (Dm::d == 3) {
+    add_cells(file.hexahedra, 5, 8);
+    add_cells(file.prisms, 6, 6);
+    add_cells(file.pyramids, 7, 5);
+  } else {
+    add_cells(file.quadrangles, 3, 4);
+  }
+  const auto nodes_of_type = [](int type) { return std::size_t(type == 4 ? 4 : type == 2 ? 3 : msh_nodes_per_element(type)); };
   {
     TagIndex by_tag;  // only for the order; cell_index is built on the cells kept
     by_tag.build(
-        kept.tags, order, name, "element",
+        fc.tags, order, name, "element",
         [&](std::size_t i, std::size_t j) {
-          std::array<std::uint64_t, nv> a, b;
-          std::copy_n(&kept.nodes[nv * i], nv, a.begin());
-          std::copy_n(&kept.nodes[nv * j], nv, b.begin());
+          if (fc.types[i] != fc.types[j]) return false;
+          std::array<std::uint64_t, 8> a = fc.nodes[i], b = fc.nodes[j];
           std::sort(a.begin(), a.end());
           std::sort(b.begin(), b.end());
           return a == b;
         },
-        lines(kept.where));
+        lines(fc.where));
   }
   // Ignored: the elements of other types and the cells of the other dimension, each tag once (a
   // mesh given twice lists them twice; the same tag with the same nodes is one element).
@@ -71,6 +99,8 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
   };
   const std::size_t higher_distinct = distinct(higher.tags);
   ex.ignored = file.other_elements + distinct(other.tags);
+  if constexpr (Dm::d == 3) ex.ignored += distinct(file.quadrangles.tags);
+  else ex.ignored += distinct(file.hexahedra.tags) + distinct(file.prisms.tags) + distinct(file.pyramids.tags);
   ex.higher_order = higher_distinct;
   if (corner_nodes) {
     ex.ignored -= std::min(ex.ignored, higher_distinct);
@@ -78,26 +108,71 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
     ex.higher_order = 0;
   }
   auto& cells = ex.mesh.cells;
-  std::vector<std::size_t> cell_tags(order.size());
-  cells.resize(order.size());
-  for (std::size_t c = 0; c < order.size(); ++c) {
-    cell_tags[c] = kept.tags[order[c]];
-    const std::uint64_t* en = &kept.nodes[nv * order[c]];
-    for (std::size_t j = 0; j < nv; ++j) {
-      const std::int32_t idx = ex.node_index.find(en[j]);
-      if (idx < 0)
-        io_fail(name, file.location(kept.where[order[c]]) + ": element " + std::to_string(cell_tags[c]) +
-                          ": unknown node tag " + std::to_string(en[j]));
-      cells[c][j] = idx;
+  std::vector<std::size_t> origin;  // the file cell (its position in `order`) of each cell
+  cells.reserve(order.size());
+  origin.reserve(order.size());
+  bool split = false;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const std::size_t f = order[k];
+    const std::size_t n = nodes_of_type(fc.types[f]);
+    std::int32_t idx[8];
+    for (std::size_t j = 0; j < n; ++j) {
+      idx[j] = ex.node_index.find(fc.nodes[f][j]);
+      if (idx[j] < 0)
+        io_fail(name, file.location(fc.where[f]) + ": element " + std::to_string(fc.tags[f]) + ": unknown node tag " +
+                          std::to_string(fc.nodes[f][j]));
+    }
+    if (n == nv) {  // a simplex
+      std::array<std::int32_t, nv> c;
+      std::copy_n(idx, nv, c.begin());
+      cells.push_back(c);
+      origin.push_back(k);
+      continue;
+    }
+    split = true;
+    for (std::size_t a = 0; a < n; ++a)
+      for (std::size_t b = a + 1; b < n; ++b)
+        if (idx[a] == idx[b])
+          io_fail(name, file.location(fc.where[f]) + ": element " + std::to_string(fc.tags[f]) + ": node " +
+                            std::to_string(fc.nodes[f][a]) + " given twice (collapsed " +
+                            (fc.types[f] == 5 ? "hexahedra" : fc.types[f] == 6 ? "prisms" : fc.types[f] == 7 ? "pyramids" : "quadrilaterals") +
+                            " are not supported)");
+    if constexpr (Dm::d == 3) {
+      std::array<std::int32_t, 4> out[kMaxSplitSimplices];
+      const int m = split_cell(static_cast<SplitShape>(fc.types[f]), idx, fc.nodes[f].data(), out);
+      for (int t = 0; t < m; ++t) cells.push_back(out[t]), origin.push_back(k);
+    } else {
+      std::array<std::int32_t, 3> out[2];
+      split_quadrangle(idx, fc.nodes[f].data(), out);
+      for (const auto& t : out) cells.push_back(t), origin.push_back(k);
     }
   }
-  ex.ignored += drop_repeated_cells(cells, cell_tags);
-  ex.cell_index.build(cell_tags, order, name, "element", [](std::size_t, std::size_t) { return false; });
+  const std::size_t cells_before = cells.size();
+  drop_repeated_cells(cells, origin);
+  // The file cells of the tags kept, in tag order; a file cell whose simplices all repeat an
+  // earlier one's (a 2.2 file lists a cell once per physical group) is ignored.
+  std::vector<std::size_t> file_tags(order.size());
+  std::vector<std::uint8_t> file_types(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) file_tags[k] = fc.tags[order[k]], file_types[k] = fc.types[order[k]];
+  if (!split) {
+    ex.ignored += cells_before - cells.size();
+    std::vector<std::size_t> cell_tags(cells.size());
+    for (std::size_t c = 0; c < cells.size(); ++c) cell_tags[c] = file_tags[origin[c]];
+    ex.cell_index.build(cell_tags, order, name, "element", [](std::size_t, std::size_t) { return false; });
+    ex.mesh.cell_tags.assign(cell_tags.begin(), cell_tags.end());
+  } else {
+    std::vector<char> has_cells(order.size(), 0);
+    for (const std::size_t k : origin) has_cells[k] = 1;
+    for (const char h : has_cells) ex.ignored += h == 0;
+    ex.cell_index.build(file_tags, order, name, "element", [](std::size_t, std::size_t) { return false; });
+    ex.mesh.cell_origin.assign(origin.begin(), origin.end());
+    ex.mesh.origin_tags.assign(file_tags.begin(), file_tags.end());
+    ex.mesh.origin_types = file_types;
+  }
   // The file's tags, in the mesh's order (nodes by tag; cells by tag, repeats dropped).
   ex.mesh.node_tags.resize(nodes.size());
   for (std::size_t k = 0; k < nodes.size(); ++k)
     ex.mesh.node_tags[k] = static_cast<std::int64_t>(file.node_tags[node_order[k]]);
-  ex.mesh.cell_tags.assign(cell_tags.begin(), cell_tags.end());
   if constexpr (Dm::d == 2) check_planar(name, nodes, z, cells);
   return ex;
 }
@@ -106,8 +181,10 @@ template Extracted<TetMesh> extract_msh<TetMesh>(const MshFile&, const std::stri
 template Extracted<TriMesh> extract_msh<TriMesh>(const MshFile&, const std::string&, bool);
 
 int msh_dimension(const MshFile& file) {
-  if (!file.tetrahedra.tags.empty() || file.higher_order_tetrahedra > 0) return 3;
-  if (!file.triangles.tags.empty() || file.higher_order_triangles > 0) return 2;
+  if (!file.tetrahedra.tags.empty() || !file.hexahedra.tags.empty() || !file.prisms.tags.empty() ||
+      !file.pyramids.tags.empty() || file.higher_order_tetrahedra > 0)
+    return 3;
+  if (!file.triangles.tags.empty() || !file.quadrangles.tags.empty() || file.higher_order_triangles > 0) return 2;
   return 0;
 }
 

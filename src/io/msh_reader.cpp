@@ -102,7 +102,8 @@ class Parser {
         end_of(std::string(section));
       } else if (section == "Elements") {
         if (out_.major == 2 && elements_segment_ >= 0 && elements_segment_ != segment_) {
-          for (MshCells* c : {&out_.tetrahedra, &out_.triangles, &out_.higher_tetrahedra, &out_.higher_triangles})
+          for (MshCells* c : {&out_.tetrahedra, &out_.triangles, &out_.hexahedra, &out_.prisms, &out_.pyramids,
+                              &out_.quadrangles, &out_.higher_tetrahedra, &out_.higher_triangles})
             *c = MshCells{};
           other_tags_.clear();
           out_.higher_order_tetrahedra = out_.higher_order_triangles = 0;
@@ -469,9 +470,16 @@ class Parser {
     out_.xyz.reserve(out_.xyz.size() + 3 * n);
   }
 
-  // One element: kept (tetrahedra, triangles) or counted.
+  // One element: kept (tetrahedra, triangles, hexahedra, prisms, pyramids, quadrangles) or
+  // counted.
   void add_element(int type, std::uint64_t tag, const std::uint64_t* nodes, std::size_t at) {
-    MshCells* cells = type == 4 ? &out_.tetrahedra : type == 2 ? &out_.triangles : nullptr;
+    MshCells* cells = type == 4   ? &out_.tetrahedra
+                      : type == 2 ? &out_.triangles
+                      : type == 5 ? &out_.hexahedra
+                      : type == 6 ? &out_.prisms
+                      : type == 7 ? &out_.pyramids
+                      : type == 3 ? &out_.quadrangles
+                                  : nullptr;
     if (cells == nullptr) {
       other_tags_.push_back(tag);
       const bool tet = is_higher_order_tetrahedron(type), tri = is_higher_order_triangle(type);
@@ -485,7 +493,7 @@ class Parser {
       return;
     }
     cells->tags.push_back(tag);
-    cells->nodes.insert(cells->nodes.end(), nodes, nodes + (type == 4 ? 4 : 3));
+    cells->nodes.insert(cells->nodes.end(), nodes, nodes + msh_nodes_per_element(type));
     cells->where.push_back(at);
   }
 

@@ -70,6 +70,10 @@ struct MshFile {
 
   MshCells tetrahedra;  ///< Gmsh type 4, 4 nodes
   MshCells triangles;   ///< Gmsh type 2, 3 nodes
+  MshCells hexahedra;   ///< Gmsh type 5, 8 nodes (split into tetrahedra by extract_msh)
+  MshCells prisms;      ///< Gmsh type 6, 6 nodes
+  MshCells pyramids;    ///< Gmsh type 7, 5 nodes
+  MshCells quadrangles; ///< Gmsh type 3, 4 nodes (split into triangles)
   std::size_t other_elements = 0;          ///< elements of every other type
   std::size_t higher_order_tetrahedra = 0;  ///< among them: tetrahedra of order > 1
   std::size_t higher_order_triangles = 0;   ///< and triangles of order > 1
