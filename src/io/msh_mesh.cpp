@@ -51,23 +51,28 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
   }
 
   // The file cells: the simplices kept, and (3D) hexahedra, prisms, pyramids or (2D)
-  // quadrilaterals, which are split into simplices below. Up to 8 node tags each.
+  // quadrilaterals, which are split into simplices below. Each cell's node tags are pointed to
+  // in the reader's lists, not copied.
   struct FileCells {
     std::vector<std::uint64_t> tags;
-    std::vector<std::array<std::uint64_t, 8>> nodes;
+    std::vector<const std::uint64_t*> nodes;
     std::vector<std::uint8_t> types;
     std::vector<std::size_t> where;
   } fc;
   const auto add_cells = [&](const MshCells& c, int type, std::size_t n) {
     for (std::size_t i = 0; i < c.tags.size(); ++i) {
       fc.tags.push_back(c.tags[i]);
-      std::array<std::uint64_t, 8> a{};
-      std::copy_n(&c.nodes[n * i], n, a.begin());
-      fc.nodes.push_back(a);
+      fc.nodes.push_back(&c.nodes[n * i]);
       fc.types.push_back(static_cast<std::uint8_t>(type));
       fc.where.push_back(c.where[i]);
     }
   };
+  const std::size_t total = kept.tags.size() + file.hexahedra.tags.size() + file.prisms.tags.size() +
+                            file.pyramids.tags.size() + file.quadrangles.tags.size();
+  fc.tags.reserve(total);
+  fc.nodes.reserve(total);
+  fc.types.reserve(total);
+  fc.where.reserve(total);
   add_cells(kept, Dm::d == 3 ? 4 : 2, nv);
   if constexpr (Dm::d == 3) {
     add_cells(file.hexahedra, 5, 8);
@@ -83,7 +88,10 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
         fc.tags, order, name, "element",
         [&](std::size_t i, std::size_t j) {
           if (fc.types[i] != fc.types[j]) return false;
-          std::array<std::uint64_t, 8> a = fc.nodes[i], b = fc.nodes[j];
+          const std::size_t n = nodes_of_type(fc.types[i]);
+          std::array<std::uint64_t, 8> a{}, b{};
+          std::copy_n(fc.nodes[i], n, a.begin());
+          std::copy_n(fc.nodes[j], n, b.begin());
           std::sort(a.begin(), a.end());
           std::sort(b.begin(), b.end());
           return a == b;
@@ -139,11 +147,11 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
                             " are not supported)");
     if constexpr (Dm::d == 3) {
       std::array<std::int32_t, 4> out[kMaxSplitSimplices];
-      const int m = split_cell(static_cast<SplitShape>(fc.types[f]), idx, fc.nodes[f].data(), out);
+      const int m = split_cell(static_cast<SplitShape>(fc.types[f]), idx, fc.nodes[f], out);
       for (int t = 0; t < m; ++t) cells.push_back(out[t]), origin.push_back(k);
     } else {
       std::array<std::int32_t, 3> out[2];
-      split_quadrangle(idx, fc.nodes[f].data(), out);
+      split_quadrangle(idx, fc.nodes[f], out);
       for (const auto& t : out) cells.push_back(t), origin.push_back(k);
     }
   }
