@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "support/temp_dir.hpp"
 #include "tetia/io.hpp"
 #include "tetia/mesh.hpp"
 #include "tetia/supermesh.hpp"
@@ -21,7 +22,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path temp_file(const std::string& name) { return fs::temp_directory_path() / ("tetia_cell_types_" + name); }
+class CellTypes : public tetia::testsupport::TempDirTest {
+ protected:
+  CellTypes() : TempDirTest("cell_types") {}
+};
 
 // An n x n x n grid of unit cubes as a .msh 2.2 file: node (i, j, k) has tag 1 + i + (n+1) j +
 // (n+1)^2 k, scrambled by `perm` (a multiplier mod a prime above the node count, so that the
@@ -75,8 +79,8 @@ std::size_t boundary_faces(const tetia::TetMesh& m) {
   return b;
 }
 
-TEST(CellTypes, HexahedralGridIsConformingAndExact) {
-  const fs::path p = temp_file("hex.msh");
+TEST_F(CellTypes, HexahedralGridIsConformingAndExact) {
+  const fs::path p = path("hex.msh");
   write(p, grid_msh(3, false, true));
   tetia::MeshReadInfo info;
   const tetia::TetMesh m = tetia::read_mesh(p, &info);
@@ -95,11 +99,10 @@ TEST(CellTypes, HexahedralGridIsConformingAndExact) {
   ASSERT_EQ(v.size(), m.num_cells());
   for (std::size_t c = 0; c < m.num_cells(); ++c)
     EXPECT_EQ(v[c], 10.0 * double(m.origin_tags[static_cast<std::size_t>(m.cell_origin[c])]));
-  fs::remove(p);
 }
 
-TEST(CellTypes, MixedHexahedraAndPrismsConform) {
-  const fs::path p = temp_file("mixed.msh");
+TEST_F(CellTypes, MixedHexahedraAndPrismsConform) {
+  const fs::path p = path("mixed.msh");
   write(p, grid_msh(3, true, false));
   const tetia::TetMesh m = tetia::read_mesh(p);
   EXPECT_EQ(m.total_volume(), 27.0);
@@ -108,21 +111,19 @@ TEST(CellTypes, MixedHexahedraAndPrismsConform) {
   std::size_t prisms = 0;
   for (const auto t : m.origin_types) prisms += t == 6;
   EXPECT_EQ(prisms, 2u * 4u * 3u);
-  fs::remove(p);
 }
 
-TEST(CellTypes, SupermeshAgainstTetrahedraTotalsTheBox) {
-  const fs::path p = temp_file("hex_sm.msh");
+TEST_F(CellTypes, SupermeshAgainstTetrahedraTotalsTheBox) {
+  const fs::path p = path("hex_sm.msh");
   write(p, grid_msh(3, true, false));
   const tetia::TetMesh hex = tetia::read_mesh(p);
   const tetia::TetMesh tet = tetia::make_kuhn_mesh({4, 5, 3}, {0, 0, 0}, {0.75, 0.6, 1.0});
   const tetia::Supermesh sm = tetia::supermesh(hex, tet);
   EXPECT_NEAR(sm.intersection_volume(), 27.0, 27.0 * 1e-13);
-  fs::remove(p);
 }
 
-TEST(CellTypes, QuadrilateralsAsTriangles) {
-  const fs::path p = temp_file("quad.msh");
+TEST_F(CellTypes, QuadrilateralsAsTriangles) {
+  const fs::path p = path("quad.msh");
   // A 2 x 2 grid of unit squares, tags scrambled.
   std::ostringstream s;
   s << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n9\n";
@@ -147,7 +148,6 @@ TEST(CellTypes, QuadrilateralsAsTriangles) {
     for (const auto x : nb) boundary += x < 0;
   EXPECT_EQ(boundary, 8u);
   EXPECT_EQ(m.origin_tags.size(), 4u);
-  fs::remove(p);
 }
 
 }  // namespace

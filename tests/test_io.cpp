@@ -28,6 +28,7 @@
 
 #include "support/error_of.hpp"
 #include "support/gmsh_write.hpp"
+#include "support/temp_dir.hpp"
 #include "support/vtu_check.hpp"
 #include "tetia/io.hpp"
 #include "tetia/mesh.hpp"
@@ -71,22 +72,10 @@ using tetia::testsupport::gmsh_write;
 // A Kuhn mesh with coordinates that are not short decimals (origin and steps of 0.1).
 TetMesh kuhn(std::array<int, 3> n) { return tetia::make_kuhn_mesh(n, {0.1, -0.3, 0.7}, {0.1, 0.2, 0.3}); }
 
-class IoTest : public ::testing::Test {
+class IoTest : public tetia::testsupport::TempDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("tetia_test_io_" + std::to_string(::getpid()) + "_" + info->test_suite_name() + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  fs::path path(const std::string& name) const { return dir_ / name; }
+  IoTest() : TempDirTest("io") {}
 
-  fs::path dir_;
 };
 
 // ---------------------------------------------------------------------------------------------

@@ -69,6 +69,7 @@
 #include <vector>
 
 #include "support/error_of.hpp"
+#include "support/temp_dir.hpp"
 #include "../src/io/gmsh_reader.hpp"
 #include "../src/io/msh_reader.hpp"
 #include "tetia/io.hpp"
@@ -483,21 +484,9 @@ bool gmsh_writes_tag_minus_one(const GmshCase& c, const Variant& v) {
 // two copies. See Gmsh22SaveAllWithAppendedViews.
 bool copies_disagree(const GmshCase& c, const Variant& v) { return c.groups && v.save_all && v.version < 3; }
 
-class MshReaderTest : public ::testing::Test {
+class MshReaderTest : public tetia::testsupport::TempDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("tetia_test_msh_reader_" + std::to_string(::getpid()) + "_" + info->test_suite_name() + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {  // TETIA_KEEP_TEST_FILES=1 keeps them, to look at
-    if (std::getenv("TETIA_KEEP_TEST_FILES") != nullptr) return;
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  fs::path path(const std::string& name) const { return dir_ / name; }
+  MshReaderTest() : TempDirTest("msh_reader") {}
 
   // Writes `bytes` as NAME and expects read_any_mesh to throw std::runtime_error whose message
   // starts with "tetia: FILE: " and contains each of `parts`. Returns the message.
@@ -516,8 +505,6 @@ class MshReaderTest : public ::testing::Test {
     write_bytes(path(name), bytes);
     return path(name);
   }
-
-  fs::path dir_;
 };
 
 // ---------------------------------------------------------------------------------------------

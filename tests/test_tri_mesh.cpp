@@ -27,6 +27,7 @@
 
 #include "support/error_of.hpp"
 #include "support/gmsh_write.hpp"
+#include "support/temp_dir.hpp"
 #include "support/vtu_check.hpp"
 #include "tetia/io.hpp"
 #include "tetia/mesh.hpp"
@@ -187,22 +188,10 @@ void write_text(const fs::path& p, const std::string& s) {
 // A structured mesh with coordinates that are not short decimals.
 TriMesh structured(std::array<int, 2> n) { return tetia::make_structured_tri_mesh(n, {0.1, -0.3}, {0.1, 0.2}); }
 
-class TriIoTest : public ::testing::Test {
+class TriIoTest : public tetia::testsupport::TempDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("tetia_test_tri_" + std::to_string(::getpid()) + "_" + info->test_suite_name() + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  fs::path path(const std::string& name) const { return dir_ / name; }
+  TriIoTest() : TempDirTest("tri") {}
 
-  fs::path dir_;
 };
 
 TEST_F(TriIoTest, WriteMshAndBackExactlyWithFields) {
