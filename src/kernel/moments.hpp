@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "fan.hpp"
 #include "frame.hpp"
 #include "kernel_result.hpp"
 #include "tetia/geometry.hpp"
@@ -35,19 +36,8 @@ double fan_moments(KernelResult& r, double& vol6, double (&m)[3]) {
   double signed6 = 0.0;
   for (int f = 0; f < r.num_facets; ++f) {
     const int b = r.facet_begin[f], e = r.facet_begin[f + 1];
-    const double* p0 = r.corners[r.facet_index[b]].bary;
-    const double ax = p0[1] - o[0], ay = p0[2] - o[1], az = p0[3] - o[2];
     double fv = 0.0, fm[3] = {0.0, 0.0, 0.0};
-    for (int k = b + 1; k + 1 < e; ++k) {
-      const double* p1 = r.corners[r.facet_index[k]].bary;
-      const double* p2 = r.corners[r.facet_index[k + 1]].bary;
-      const double bx = p1[1] - o[0], by = p1[2] - o[1], bz = p1[3] - o[2];
-      const double cx = p2[1] - o[0], cy = p2[2] - o[1], cz = p2[3] - o[2];
-      const double d = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
-      fv += d;
-      if constexpr (kMoments)
-        for (int c = 0; c < 3; ++c) fm[c] += d * (o[c] + p0[c + 1] + p1[c + 1] + p2[c + 1]);
-    }
+    fan_pyramids<kMoments>(o, e - b, [&](int k) { return r.corners[r.facet_index[b + k]].bary; }, fv, fm);
     signed6 += fv;
     r.facet_volume6[f] = fv;
     const double s = fv < 0.0 ? -1.0 : 1.0;

@@ -33,6 +33,7 @@
 #include <cstdint>
 
 #include "exact_sign.hpp"  // two_sum, two_diff, two_product
+#include "fan.hpp"
 #include "tetia/geometry.hpp"
 #include "tetia/polyhedron.hpp"
 
@@ -235,8 +236,8 @@ inline bool clip(ClipPoly& P, const double (&d)[4]) {
 }
 
 // Volume and first moments (in lambda1..lambda3, the unit simplex having volume 1/6) by fans
-// over the faces, each joined to the mean of the vertices and taken in absolute value (a convex
-// polytope: every such pyramid is non-negative), as the kernel's fan_moments does.
+// over the faces (fan.hpp), each joined to the mean of the vertices and taken in absolute value
+// (a convex polytope: every such pyramid is non-negative), as the kernel's fan_moments does.
 // kMoments: the first moments too (the volume is the same number either way).
 template <bool kMoments>
 void clip_moments(const ClipPoly& P, double& vol, double (&first)[3]) {
@@ -269,19 +270,8 @@ void clip_moments(const ClipPoly& P, double& vol, double (&first)[3]) {
         a = b;
         ia = (j + 1) % 3;
       } while (!(a == v0 && ia == i0) && len < ClipPoly::kMax);
-      const double* p0 = P.lam[face[0]];
-      const double ax = p0[1] - o[0], ay = p0[2] - o[1], az = p0[3] - o[2];
       double fv = 0.0, fm[3] = {0.0, 0.0, 0.0};
-      for (int k = 1; k + 1 < len; ++k) {
-        const double* p1 = P.lam[face[k]];
-        const double* p2 = P.lam[face[k + 1]];
-        const double bx = p1[1] - o[0], by = p1[2] - o[1], bz = p1[3] - o[2];
-        const double cx = p2[1] - o[0], cy = p2[2] - o[1], cz = p2[3] - o[2];
-        const double d = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
-        fv += d;
-        if constexpr (kMoments)
-          for (int c = 0; c < 3; ++c) fm[c] += d * (o[c] + p0[c + 1] + p1[c + 1] + p2[c + 1]);
-      }
+      fan_pyramids<kMoments>(o, len, [&](int k) { return P.lam[face[k]]; }, fv, fm);
       const double s = fv < 0.0 ? -1.0 : 1.0;
       vol6 += s * fv;
       if constexpr (kMoments)

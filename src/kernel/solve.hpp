@@ -40,6 +40,26 @@ double coordinate_magnitude(const double (&C)[4][4]) {  // the largest of 1 and 
 #endif
 }
 
+// Bit p: some vertex of X has coordinate p > 0 (kStrict) or >= 0.
+template <bool kStrict>
+unsigned column_mask(const double (&C)[4][4]) {
+#if TETIA_KERNEL_SSE2
+  const __m128d z = _mm_setzero_pd();
+  const auto cmp = [&z](__m128d v) { return kStrict ? _mm_cmpgt_pd(v, z) : _mm_cmpge_pd(v, z); };
+  __m128d lo = cmp(_mm_loadu_pd(C[0])), hi = cmp(_mm_loadu_pd(C[0] + 2));
+  for (int i = 1; i < 4; ++i) {
+    lo = _mm_or_pd(lo, cmp(_mm_loadu_pd(C[i])));
+    hi = _mm_or_pd(hi, cmp(_mm_loadu_pd(C[i] + 2)));
+  }
+  return unsigned(_mm_movemask_pd(lo)) | unsigned(_mm_movemask_pd(hi)) << 2;
+#else
+  unsigned mask = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int p = 0; p < 4; ++p) mask |= unsigned(kStrict ? C[i][p] > 0.0 : C[i][p] >= 0.0) << p;
+  return mask;
+#endif
+}
+
 // Runs the kernel on a prepared frame. Returns false if the labels do not close up into a
 // simple polytope (see Kernel::run and build_facets); the result is then empty.
 // kFull: the result becomes a Polyhedron (weights, and the coordinate scale orient_facets uses).
@@ -48,41 +68,14 @@ bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* s
   // Kernel::run's first test (lines 2-6) ahead of the kernel: some plane of Y has no vertex of
   // X strictly on its positive side (which covers X on its negative side: C >= 0 implies
   // C > 0 fails only for zeros). The result is then empty, as run and build_facets leave it.
-  unsigned positive = 0;  // bit p: some vertex of X has coordinate p > 0
-#if TETIA_KERNEL_SSE2
-  {
-    const __m128d z = _mm_setzero_pd();
-    __m128d lo = _mm_cmpgt_pd(_mm_loadu_pd(C[0]), z), hi = _mm_cmpgt_pd(_mm_loadu_pd(C[0] + 2), z);
-    for (int i = 1; i < 4; ++i) {
-      lo = _mm_or_pd(lo, _mm_cmpgt_pd(_mm_loadu_pd(C[i]), z));
-      hi = _mm_or_pd(hi, _mm_cmpgt_pd(_mm_loadu_pd(C[i] + 2), z));
-    }
-    positive = unsigned(_mm_movemask_pd(lo)) | unsigned(_mm_movemask_pd(hi)) << 2;
-  }
-#else
-  for (int i = 0; i < 4; ++i)
-    for (int p = 0; p < 4; ++p) positive |= unsigned(C[i][p] > 0.0) << p;
-#endif
+  const unsigned positive = column_mask<true>(C);
   if (positive != 0xFu) {
     res.set_empty();
     res.contradiction = false;
     // Certain where X lies strictly on the negative side of a plane of Y (coordinates that
     // are not snapped to 0 have certain signs, barycentric_map.hpp); where a coordinate is 0
     // (on the plane, or within rounding of it) solve_with checks the accuracy.
-    unsigned nonnegative = 0;  // bit p: some vertex of X has coordinate p >= 0
-#if TETIA_KERNEL_SSE2
-    const __m128d z = _mm_setzero_pd();
-    __m128d lo = _mm_cmpge_pd(_mm_loadu_pd(C[0]), z), hi = _mm_cmpge_pd(_mm_loadu_pd(C[0] + 2), z);
-    for (int i = 1; i < 4; ++i) {
-      lo = _mm_or_pd(lo, _mm_cmpge_pd(_mm_loadu_pd(C[i]), z));
-      hi = _mm_or_pd(hi, _mm_cmpge_pd(_mm_loadu_pd(C[i] + 2), z));
-    }
-    nonnegative = unsigned(_mm_movemask_pd(lo)) | unsigned(_mm_movemask_pd(hi)) << 2;
-#else
-    for (int i = 0; i < 4; ++i)
-      for (int p = 0; p < 4; ++p) nonnegative |= unsigned(C[i][p] >= 0.0) << p;
-#endif
-    res.certainly_empty = nonnegative != 0xFu;
+    res.certainly_empty = column_mask<false>(C) != 0xFu;
     return true;
   }
   if (stats) {

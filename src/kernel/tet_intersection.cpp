@@ -34,6 +34,7 @@
 //   facets.hpp              the facets from the corners' labels
 //   orientation.hpp         the facets oriented outward
 //   moments.hpp             volume and first moments; eq. (3) back to the caller's frame
+//   fan.hpp                 the pyramids over one facet (shared with refined_clip.hpp)
 //   solve.hpp               one pair from start to end, with the repair (other reference),
 //                           the tests that certify the result, and the rescaling
 //   polyhedron_builder.hpp  the result as a Polyhedron
