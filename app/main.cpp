@@ -115,9 +115,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   sm_cmd->footer("The dimension comes from the files: tetrahedra make a 3D mesh; without them,\n"
                  "triangles (in a plane z = const) a 2D one. Both files must have the same dimension.\n"
-                 "Prints a JSON summary: dimension (3 or 2), source_cells, target_cells, candidates,\n"
-                 "pairs, seconds, and in 3D source_volume, target_volume, intersection_volume, in 2D\n"
-                 "source_area, target_area, intersection_area.");
+                 "Prints a JSON summary: dimension (3 or 2), source_cells, target_cells (the files'\n"
+                 "cells: a hexahedron is one), source_simplices, target_simplices (a hexahedron is 6\n"
+                 "tetrahedra), candidates, pairs (of file cells that overlap), simplex_pairs, seconds,\n"
+                 "and in 3D source_volume, target_volume, intersection_volume, in 2D source_area,\n"
+                 "target_area, intersection_area. With -o, each piece's simplices carry piece (its pair\n"
+                 "of file cells), source, target (the file cells' tags) and simplex_volume.");
 
   tetia::app::RemapCommand rm;
   CLI::App* rm_cmd = app.add_subcommand("remap", "Transfer a field conservatively from one mesh to another");
@@ -145,7 +148,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 4096))
       ->capture_default_str();
   rm_cmd->footer("Meshes of either dimension (as for supermesh), both the same.\n"
-                 "Prints a JSON summary: dimension, order, source_cells, target_cells, pairs,\n"
+                 "Results are per cell of the files (P0: one value per hexahedron, prism, pyramid,\n"
+                 "quadrilateral; the VTU and --matrix have the files' cells).\n"
+                 "Prints a JSON summary: dimension, order, source_cells, target_cells,\n"
+                 "source_simplices, target_simplices, pairs, simplex_pairs (as for supermesh),\n"
                  "source_volume, target_volume, intersection_volume (in 2D: source_area, target_area,\n"
                  "intersection_area), source_integral, overlap_integral (the source integral over the\n"
                  "overlap), target_integral, conservation_error (target against overlap integral,\n"

@@ -26,6 +26,7 @@
 #include "../src/compensated_sum.hpp"
 #include "pairs.hpp"
 #include "progress.hpp"
+#include "tetia/file_cells.hpp"
 #include "tetia/io.hpp"
 #include "tetia/remap.hpp"
 #include "tetia/supermesh.hpp"
@@ -158,12 +159,14 @@ double overlap_integral(const typename Kind<Mesh>::Result& s, const std::vector<
   return sum.value();
 }
 
-// The supermesh's pieces as simplices, for ParaView: Int64 cell data "piece" (the piece's
-// index), "source" and "target" (the file's tags of its two cells), and Float64
+// The supermesh's pieces as simplices, for ParaView: Int64 cell data "piece" (the index of the
+// piece's pair of file cells: the pieces of a split hexahedron's tetrahedra with the same target
+// file cell are one), "source" and "target" (the file's tags of its two cells), and Float64
 // "simplex_volume" (area): each simplex's own measure, so that summing it over the file gives
 // the intersection's total (the piece's measure is the sum over its simplices).
-template <class Mesh>
-void write_supermesh_vtu(const std::string& file, const typename Kind<Mesh>::Result& s, VtuFormat format, int threads) {
+template <class Mesh, class Pairs>
+void write_supermesh_vtu(const std::string& file, const typename Kind<Mesh>::Result& s, const Pairs& pairs,
+                         VtuFormat format, int threads) {
   Mesh out;
   std::vector<std::int64_t> piece, source, target;
   std::vector<double> measure;
@@ -179,7 +182,7 @@ void write_supermesh_vtu(const std::string& file, const typename Kind<Mesh>::Res
       cell[v] = base + static_cast<std::int32_t>(v);
     }
     out.cells.push_back(cell);
-    piece.push_back(static_cast<std::int64_t>(k));
+    piece.push_back(pairs.piece_pair[k]);
     source.push_back(tag(*s.source, s.pieces[k].source));
     target.push_back(tag(*s.target, s.pieces[k].target));
     if constexpr (Kind<Mesh>::dim == 3) {
@@ -209,16 +212,18 @@ void write_supermesh_vtu(const std::string& file, const typename Kind<Mesh>::Res
   write_vtu(file, out, {{std::string("simplex_") + Kind<Mesh>::measure, measure}}, {}, options);
 }
 
-template <class Result>
-void write_p0_matrix(const std::string& file, const Result& s, const char* measure) {
+// Rows and columns are the file cells (tetia/file_cells.hpp), in the order of their tags: a
+// split hexahedron is one row or column.
+template <class Result, class Pairs>
+void write_p0_matrix(const std::string& file, const Result& s, const Pairs& pairs, const char* measure) {
   std::ofstream out(file);
   if (!out) throw std::runtime_error("tetia: " + file + ": cannot write");
   out << "%%MatrixMarket matrix coordinate real general\n"
       << "% tetia P0 coupling matrix: entry (t, s) = " << measure
-      << " of target cell t intersected with source cell s\n"
-      << s.target->num_cells() << ' ' << s.source->num_cells() << ' ' << s.pieces.size() << '\n';
+      << " of target cell t intersected with source cell s (cells of the files, in tag order)\n"
+      << s.target->num_file_cells() << ' ' << s.source->num_file_cells() << ' ' << pairs.pairs.size() << '\n';
   char buf[64];
-  for (const auto& p : s.pieces) {
+  for (const auto& p : pairs.pairs) {
     std::snprintf(buf, sizeof buf, "%.17g", Kind<std::remove_cvref_t<decltype(*s.source)>>::measure_of(p));
     out << p.target + 1 << ' ' << p.source + 1 << ' ' << buf << '\n';
   }
@@ -354,6 +359,14 @@ int guarded(Body&& body) {
   }
 }
 
+// The cells as the kernels see them: a file's hexahedron is 6 tetrahedra ("source_cells",
+// "target_cells" and "pairs" count the file's cells).
+template <class Mesh>
+std::string simplices_json(const Mesh& source, const Mesh& target) {
+  return std::string("\"source_simplices\": ") + std::to_string(source.num_cells()) +
+         ", \"target_simplices\": " + std::to_string(target.num_cells());
+}
+
 template <class Mesh>
 int supermesh_command(const SupermeshCommand& cmd, const Mesh& source, const Mesh& target, const std::string& extra) {
   using K = Kind<Mesh>;
@@ -363,16 +376,18 @@ int supermesh_command(const SupermeshCommand& cmd, const Mesh& source, const Mes
   options.keep_polyhedra = !cmd.output.empty();
   options.progress = intersection_progress(source.num_cells());
   const auto s = supermesh(source, target, options);
+  const auto pairs = file_cell_pairs(s);
   if (!cmd.output.empty()) {
     progress("writing " + cmd.output);
-    write_supermesh_vtu<Mesh>(cmd.output, s, cmd.ascii ? VtuFormat::ascii : VtuFormat::binary, cmd.threads);
+    write_supermesh_vtu<Mesh>(cmd.output, s, pairs, cmd.ascii ? VtuFormat::ascii : VtuFormat::binary, cmd.threads);
   }
   const std::string m = K::measure;
   Progress::get().finish();
   std::printf(
-      "{\"dimension\": %d, \"source_cells\": %zu, \"target_cells\": %zu, \"candidates\": %zu, \"pairs\": %zu, "
-      "\"source_%s\": %s, \"target_%s\": %s, \"intersection_%s\": %s%s, \"seconds\": %.6f}\n",
-      K::dim, source.num_cells(), target.num_cells(), s.candidates, s.pieces.size(), m.c_str(),
+      "{\"dimension\": %d, \"source_cells\": %zu, \"target_cells\": %zu, %s, \"candidates\": %zu, \"pairs\": %zu, "
+      "\"simplex_pairs\": %zu, \"source_%s\": %s, \"target_%s\": %s, \"intersection_%s\": %s%s, \"seconds\": %.6f}\n",
+      K::dim, source.num_file_cells(), target.num_file_cells(), simplices_json(source, target).c_str(), s.candidates,
+      pairs.pairs.size(), s.pieces.size(), m.c_str(),
       num(K::total(source), "source total").c_str(), m.c_str(), num(K::total(target), "target total").c_str(),
       m.c_str(), num(K::total(s), "intersection total").c_str(), extra.c_str(), s.seconds);
   return exit_ok;
@@ -393,7 +408,10 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
   if (!cmd.expr.empty()) {
     expr = std::make_unique<Expression>(cmd.expr);
     f = [&](typename K::Point p) { return (*expr)(p); };
-    inputs.push_back({"field", 1, cmd.order == 0 ? average_over_cells(source, f) : node_values(source, f)});
+    // P0: one value per file cell (a hexahedron's average, on each of its tetrahedra).
+    inputs.push_back({"field", 1,
+                      cmd.order == 0 ? spread_to_simplices(source, file_cell_average(source, average_over_cells(source, f)))
+                                     : node_values(source, f)});
   } else {
     for (const std::string& field : cmd.fields) {
       Input in{field, 1, {}};
@@ -409,9 +427,10 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
   options.keep_mixed_mass = cmd.order == 1;
   options.progress = intersection_progress(source.num_cells());
   const auto s = supermesh(source, target, options);
+  const auto pairs = file_cell_pairs(s);
   progress(cmd.order == 0 ? "remap" : "solve");
   if (!cmd.matrix.empty()) {
-    if (cmd.order == 0) write_p0_matrix(cmd.matrix, s, K::measure);
+    if (cmd.order == 0) write_p0_matrix(cmd.matrix, s, pairs, K::measure);
     else write_mixed_mass_matrix(s, cmd.matrix);
   }
   // Every component remapped on its own (one solve each for P1); integrals and conservation
@@ -425,16 +444,24 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
   for (const Input& in : inputs) {
     const auto nc = static_cast<std::size_t>(in.components);
     const std::size_t n_src = in.values.size() / nc;
-    const std::size_t n_tgt = cmd.order == 0 ? target.num_cells() : target.num_nodes();
+    // P0 results are per file cell of the target (a hexahedron's value is the volume-weighted
+    // average of its tetrahedra's, which is the projection onto constants per hexahedron).
+    const std::size_t n_tgt = cmd.order == 0 ? target.num_file_cells() : target.num_nodes();
     std::vector<double> out(n_tgt * nc);
     std::string ints[4];
     for (std::size_t k = 0; k < nc; ++k) {
       std::vector<double> component(n_src);
       for (std::size_t i = 0; i < n_src; ++i) component[i] = in.values[i * nc + k];
       P1RemapReport r;
-      const std::vector<double> result = cmd.order == 0 ? remap_p0(s, component) : remap_p1(s, component, &r);
+      std::vector<double> result = cmd.order == 0 ? remap_p0(s, component) : remap_p1(s, component, &r);
       report.iterations = std::max(report.iterations, r.iterations);
-      for (std::size_t i = 0; i < n_tgt; ++i) out[i * nc + k] = result[i];
+      if (cmd.order == 0 && !target.cell_origin.empty()) {
+        const std::vector<double> per_file_cell = file_cell_average(target, result);
+        for (std::size_t i = 0; i < n_tgt; ++i) out[i * nc + k] = per_file_cell[i];
+        result = spread_to_simplices(target, per_file_cell);  // for the integrals and errors below
+      } else {
+        for (std::size_t i = 0; i < n_tgt; ++i) out[i * nc + k] = result[i];
+      }
       // Conservation: the target integral against the source integral over the overlap (the
       // whole source integral when the domains coincide).
       const double src_int = integral(source, component, cmd.order);
@@ -458,7 +485,8 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
   }
   double error = -1.0, relative = -1.0;
   if (f) {
-    const std::vector<double> exact = cmd.order == 0 ? average_over_cells(target, f) : node_values(target, f);
+    const std::vector<double> exact =
+        cmd.order == 0 ? file_cell_average(target, average_over_cells(target, f)) : node_values(target, f);
     (cmd.order == 0 ? cell_data : point_data).push_back({"exact", exact});
     error = l2_error(target, first_out, cmd.order, f);
     const double norm = l2_norm(target, f);
@@ -480,12 +508,14 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
   }
   Progress::get().finish();
   std::printf(
-      "{\"dimension\": %d, \"order\": %d, \"source_cells\": %zu, \"target_cells\": %zu, \"pairs\": %zu, "
+      "{\"dimension\": %d, \"order\": %d, \"source_cells\": %zu, \"target_cells\": %zu, %s, \"pairs\": %zu, "
+      "\"simplex_pairs\": %zu, "
       "\"source_%s\": %s, \"target_%s\": %s, \"intersection_%s\": %s, \"source_integral\": %s, "
       "\"overlap_integral\": %s, \"target_integral\": %s, "
       "\"conservation_error\": %s, \"l2_error\": %s, \"relative_l2_error\": %s, \"cg_iterations\": %d, "
       "\"fields\": [%s]%s, \"seconds\": %.6f}\n",
-      K::dim, cmd.order, source.num_cells(), target.num_cells(), s.pieces.size(), m.c_str(), totals[0].c_str(),
+      K::dim, cmd.order, source.num_file_cells(), target.num_file_cells(), simplices_json(source, target).c_str(),
+      pairs.pairs.size(), s.pieces.size(), m.c_str(), totals[0].c_str(),
       m.c_str(), totals[1].c_str(), m.c_str(), totals[2].c_str(), integrals[0].c_str(), integrals[1].c_str(),
       integrals[2].c_str(), conservation_text.c_str(), l2[0].c_str(), l2[1].c_str(), report.iterations,
       fields_json.c_str(), extra.c_str(), s.seconds);

@@ -28,7 +28,7 @@ packages=(
   python3           # scripts and plots
   python3-matplotlib
   python3-numpy
-  python3-vtk9      # VTK's own reader checks the VTU files in the tests (tests/vtu_check.py)
+  python3-vtk9      # VTK's own reader checks the VTU files in the tests (tests/vtu_dump.py)
 )
 
 names=("${packages[@]}")

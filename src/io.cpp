@@ -302,9 +302,13 @@ void vtu(const std::filesystem::path& file, const Mesh& mesh, const std::vector<
   using Dm = detail::Dim<Mesh>;
   const std::string name = file.string();
   check_mesh(name, mesh);
-  check_fields(name, cell_data, mesh.cells.size());
+  // A mesh with split file cells is written as the file's cells (hexahedra, prisms, pyramids,
+  // quadrilaterals, simplices), unless the simplices are asked for.
+  const bool file_cells = !mesh.cell_origin.empty() && !options.simplices;
+  const std::size_t num_cells = file_cells ? mesh.num_file_cells() : mesh.cells.size();
+  check_fields(name, cell_data, num_cells);
   check_fields(name, point_data, mesh.nodes.size());
-  for (const auto& ids : {std::pair{&options.cell_ids, mesh.cells.size()}, std::pair{&options.point_ids, mesh.nodes.size()}})
+  for (const auto& ids : {std::pair{&options.cell_ids, num_cells}, std::pair{&options.point_ids, mesh.nodes.size()}})
     for (const IdField& f : *ids.first)
       if (f.values.size() != ids.second)
         fail(name, "id field " + f.name + " has " + std::to_string(f.values.size()) + " values, expected " +
@@ -328,7 +332,9 @@ void vtu(const std::filesystem::path& file, const Mesh& mesh, const std::vector<
   data_section("PointData", "node_id", mesh.node_tags, options.point_ids, point_data);
   if (mesh.cell_origin.empty()) {
     data_section("CellData", "cell_id", mesh.cell_tags, options.cell_ids, cell_data);
-  } else {  // split file cells: each simplex carries its file cell's tag
+  } else if (file_cells) {
+    data_section("CellData", "cell_id", mesh.origin_tags, options.cell_ids, cell_data);
+  } else {  // the simplices of split file cells: each carries its file cell's tag
     std::vector<std::int64_t> origin(mesh.cells.size());
     for (std::size_t c = 0; c < origin.size(); ++c)
       origin[c] = mesh.origin_tags[static_cast<std::size_t>(mesh.cell_origin[c])];
@@ -348,7 +354,35 @@ void vtu(const std::filesystem::path& file, const Mesh& mesh, const std::vector<
     }
     xml += "      <Points>\n        " + arrays.array("Float64", "", 3, points, 3) + "      </Points>\n";
   }
-  {
+  if (file_cells) {
+    // VTK's node orders are Gmsh's except the wedge's, whose first triangle VTK lists the
+    // other way round (its normal pointing away from the second).
+    std::vector<std::int32_t> connectivity;
+    connectivity.reserve(mesh.origin_nodes.size());
+    std::vector<std::int32_t> offsets(num_cells);
+    std::vector<std::uint8_t> types(num_cells);
+    std::size_t at = 0;
+    for (std::size_t f = 0; f < num_cells; ++f) {
+      const int type = mesh.origin_types[f];
+      const auto n = static_cast<std::size_t>(file_cell_nodes(type));
+      const std::int32_t* v = &mesh.origin_nodes[at];
+      if (type == 6) {
+        connectivity.insert(connectivity.end(), {v[0], v[2], v[1], v[3], v[5], v[4]});
+      } else {
+        connectivity.insert(connectivity.end(), v, v + n);
+      }
+      at += n;
+      offsets[f] = static_cast<std::int32_t>(at);
+      // Gmsh types 2-7 as VTK's: triangle 5, quadrilateral 9, tetrahedron 10, hexahedron 12,
+      // wedge 13, pyramid 14.
+      static constexpr std::uint8_t kVtkType[8] = {0, 0, 5, 9, 10, 12, 13, 14};
+      types[f] = kVtkType[type];
+    }
+    xml += "      <Cells>\n        " +
+           arrays.array("Int32", "connectivity", 1, std::span<const std::int32_t>(connectivity)) + "        " +
+           arrays.array("Int32", "offsets", 1, std::span<const std::int32_t>(offsets)) + "        " +
+           arrays.array("UInt8", "types", 1, std::span<const std::uint8_t>(types)) + "      </Cells>\n";
+  } else {
     // Int32 connectivity and offsets, as the mesh holds them (VTK takes either width).
     static_assert(sizeof(mesh.cells[0]) == Dm::nv * sizeof(std::int32_t));
     const std::span<const std::int32_t> connectivity(&mesh.cells[0][0], Dm::nv * mesh.cells.size());
@@ -364,7 +398,7 @@ void vtu(const std::filesystem::path& file, const Mesh& mesh, const std::vector<
   out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
          "header_type=\"UInt64\""
       << (binary ? " compressor=\"vtkZLibDataCompressor\"" : "") << ">\n  <UnstructuredGrid>\n"
-      << "    <Piece NumberOfPoints=\"" << mesh.nodes.size() << "\" NumberOfCells=\"" << mesh.cells.size() << "\">\n"
+      << "    <Piece NumberOfPoints=\"" << mesh.nodes.size() << "\" NumberOfCells=\"" << num_cells << "\">\n"
       << xml << "    </Piece>\n  </UnstructuredGrid>\n";
   if (binary) out << "  <AppendedData encoding=\"raw\">\n   _" << std::string_view(arrays.appended()) << "\n  </AppendedData>\n";
   out << "</VTKFile>\n";
@@ -372,16 +406,19 @@ void vtu(const std::filesystem::path& file, const Mesh& mesh, const std::vector<
 }
 
 // .msh 4.1 ASCII, written as text (exact numbers, unlike Gmsh's 16 digits): one discrete
-// volume (surface, for triangles: z = 0) holding every node and cell, node i tagged i + 1 and
-// cell c tagged c + 1, so that the reader gives back the same order; one $NodeData /
-// $ElementData per field (time step 0, one component).
+// volume (surface, for triangles: z = 0) holding every node and cell, tagged with the mesh's
+// tags (1, 2, ... by position without), so that the reader gives back the same mesh; a mesh
+// with split file cells as the file's cells, one block per element type; one $NodeData /
+// $ElementData per field (time step 0).
 template <class Mesh>
 void msh(const std::filesystem::path& file, const Mesh& mesh, const std::vector<Field>& cell_data,
          const std::vector<Field>& point_data) {
   using Dm = detail::Dim<Mesh>;
   const std::string name = file.string();
   check_mesh(name, mesh);
-  check_fields(name, cell_data, mesh.cells.size());
+  // A mesh with split file cells is written as the file's cells, one element block per type.
+  const bool file_cells = !mesh.cell_origin.empty();
+  check_fields(name, cell_data, file_cells ? mesh.num_file_cells() : mesh.cells.size());
   check_fields(name, point_data, mesh.nodes.size());
   std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
   for (int d = 0; d < Dm::d; ++d) lo[d] = hi[d] = Dm::coord(mesh.nodes.front(), d);
@@ -390,11 +427,11 @@ void msh(const std::filesystem::path& file, const Mesh& mesh, const std::vector<
       lo[d] = std::min(lo[d], Dm::coord(p, d));
       hi[d] = std::max(hi[d], Dm::coord(p, d));
     }
-  const std::size_t n = mesh.nodes.size(), m = mesh.cells.size();
+  const std::size_t n = mesh.nodes.size(), m = file_cells ? mesh.num_file_cells() : mesh.cells.size();
   if (!mesh.node_tags.empty() && mesh.node_tags.size() != n) fail(name, "node tags do not match the nodes");
   if (!mesh.cell_tags.empty() && mesh.cell_tags.size() != m) fail(name, "cell tags do not match the cells");
   const std::vector<std::int64_t> node_tags = ids_or_positions(mesh.node_tags, n);
-  const std::vector<std::int64_t> cell_tags = ids_or_positions(mesh.cell_tags, m);
+  const std::vector<std::int64_t> cell_tags = ids_or_positions(file_cells ? mesh.origin_tags : mesh.cell_tags, m);
   const auto [node_lo, node_hi] = std::minmax_element(node_tags.begin(), node_tags.end());
   const auto [cell_lo, cell_hi] = std::minmax_element(cell_tags.begin(), cell_tags.end());
   TextOut out(file);
@@ -410,13 +447,36 @@ void msh(const std::filesystem::path& file, const Mesh& mesh, const std::vector<
       out << p.x << ' ' << p.y << " 0\n";
     }
   }
-  out << "$EndNodes\n$Elements\n1 " << m << ' ' << *cell_lo << ' ' << *cell_hi << '\n'
-      << Dm::d << " 1 " << GmshCell<Mesh>::type << ' ' << m << '\n';
-  for (std::size_t c = 0; c < m; ++c) {
-    const auto& v = mesh.cells[c];
-    out << cell_tags[c];
-    for (const auto idx : v) out << ' ' << node_tags[static_cast<std::size_t>(idx)];
-    out << '\n';
+  if (!file_cells) {
+    out << "$EndNodes\n$Elements\n1 " << m << ' ' << *cell_lo << ' ' << *cell_hi << '\n'
+        << Dm::d << " 1 " << GmshCell<Mesh>::type << ' ' << m << '\n';
+    for (std::size_t c = 0; c < m; ++c) {
+      const auto& v = mesh.cells[c];
+      out << cell_tags[c];
+      for (const auto idx : v) out << ' ' << node_tags[static_cast<std::size_t>(idx)];
+      out << '\n';
+    }
+  } else {
+    // One block per element type present, in type order; the cells of a type in file order.
+    std::size_t per_type[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    for (const std::uint8_t t : mesh.origin_types) ++per_type[t];
+    std::vector<std::size_t> first_node(m + 1, 0);
+    for (std::size_t f = 0; f < m; ++f)
+      first_node[f + 1] = first_node[f] + static_cast<std::size_t>(file_cell_nodes(mesh.origin_types[f]));
+    int blocks = 0;
+    for (const std::size_t c : per_type) blocks += c > 0;
+    out << "$EndNodes\n$Elements\n" << blocks << ' ' << m << ' ' << *cell_lo << ' ' << *cell_hi << '\n';
+    for (int type = 2; type <= 7; ++type) {
+      if (per_type[type] == 0) continue;
+      out << Dm::d << " 1 " << type << ' ' << per_type[type] << '\n';
+      for (std::size_t f = 0; f < m; ++f) {
+        if (mesh.origin_types[f] != type) continue;
+        out << cell_tags[f];
+        for (std::size_t k = first_node[f]; k < first_node[f + 1]; ++k)
+          out << ' ' << node_tags[static_cast<std::size_t>(mesh.origin_nodes[k])];
+        out << '\n';
+      }
+    }
   }
   out << "$EndElements\n";
   for (const auto& f : point_data) write_msh_data(out, "NodeData", f, node_tags);

@@ -5,7 +5,9 @@
 // supermesh against a tetrahedral mesh of the same box totals the box (issue 16, part 3).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -13,9 +15,13 @@
 #include <string>
 #include <vector>
 
+#include "support/cell_grids.hpp"
 #include "support/temp_dir.hpp"
+#include "support/vtu_check.hpp"
+#include "tetia/file_cells.hpp"
 #include "tetia/io.hpp"
 #include "tetia/mesh.hpp"
+#include "tetia/remap.hpp"
 #include "tetia/supermesh.hpp"
 
 namespace {
@@ -27,48 +33,7 @@ class CellTypes : public tetia::testsupport::TempDirTest {
   CellTypes() : TempDirTest("cell_types") {}
 };
 
-// An n x n x n grid of unit cubes as a .msh 2.2 file: node (i, j, k) has tag 1 + i + (n+1) j +
-// (n+1)^2 k, scrambled by `perm` (a multiplier mod a prime above the node count, so that the
-// smallest tag of a cell is not always its first corner). Cubes are hexahedra; with `mixed`,
-// the columns with i + j odd are two prisms each instead (split along the diagonal from (i, j)
-// to (i + 1, j + 1), the same in the whole column, as an extruded mesh has it: the prisms'
-// triangles meet triangles, their quadrilaterals meet the hexahedra's).
-std::string grid_msh(int n, bool mixed, bool with_data) {
-  const int m = n + 1;
-  const auto node = [&](int i, int j, int k) { return 1 + i + m * j + m * m * k; };
-  const auto tag = [&](int v) { return 1 + (static_cast<long long>(v) * 7919) % 100003; };  // distinct for v < 100003
-  // (std::ostringstream: g++ 12's -Wrestrict misreads chains of string concatenations.)
-  std::ostringstream s, el, data;
-  s << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n" << m * m * m << "\n";
-  for (int k = 0; k < m; ++k)
-    for (int j = 0; j < m; ++j)
-      for (int i = 0; i < m; ++i) s << tag(node(i, j, k)) << ' ' << i << ' ' << j << ' ' << k << '\n';
-  s << "$EndNodes\n$Elements\n";
-  int ne = 0;
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const int c[8] = {node(i, j, k),     node(i + 1, j, k),     node(i + 1, j + 1, k),     node(i, j + 1, k),
-                          node(i, j, k + 1), node(i + 1, j, k + 1), node(i + 1, j + 1, k + 1), node(i, j + 1, k + 1)};
-        if (mixed && (i + j) % 2 == 1) {
-          // Two prisms: bottom triangles (0, 1, 2) and (0, 2, 3), counter-clockwise from above.
-          for (const auto& p : {std::array<int, 3>{0, 1, 2}, std::array<int, 3>{0, 2, 3}}) {
-            el << ++ne << " 6 2 1 1";
-            for (const int v : {p[0], p[1], p[2], p[0] + 4, p[1] + 4, p[2] + 4}) el << ' ' << tag(c[v]);
-            el << '\n';
-            data << ne << ' ' << ne * 10 << '\n';
-          }
-        } else {
-          el << ++ne << " 5 2 1 1";
-          for (int v = 0; v < 8; ++v) el << ' ' << tag(c[v]);
-          el << '\n';
-          data << ne << ' ' << ne * 10 << '\n';
-        }
-      }
-  s << ne << '\n' << el.str() << "$EndElements\n";
-  if (with_data) s << "$ElementData\n1\n\"ten\"\n1\n0.0\n3\n0\n1\n" << ne << '\n' << data.str() << "$EndElementData\n";
-  return s.str();
-}
+using tetia::testsupport::grid_msh;
 
 void write(const fs::path& p, const std::string& s) { std::ofstream(p, std::ios::binary) << s; }
 
@@ -122,6 +87,127 @@ TEST_F(CellTypes, SupermeshAgainstTetrahedraTotalsTheBox) {
   EXPECT_NEAR(sm.intersection_volume(), 27.0, 27.0 * 1e-13);
 }
 
+// The supermesh per pair of file cells (file_cell_pairs) and P0 per file cell: each target
+// hexahedron's or prism's pairs total its volume, every piece lies in exactly one pair and the
+// pairs sum their pieces, a constant is reproduced per file cell and the integral is conserved;
+// a mesh against itself pairs each file cell with itself only, and P0 gives back its values.
+TEST_F(CellTypes, ResultsPerFileCell) {
+  const fs::path p = path("mixed_pairs.msh");
+  write(p, grid_msh(3, true, true));
+  const tetia::TetMesh hex = tetia::read_mesh(p);
+  const tetia::TetMesh tet = tetia::make_kuhn_mesh({4, 5, 3}, {0, 0, 0}, {0.75, 0.6, 1.0});
+  const std::vector<double> measure = tetia::file_cell_measures(hex);
+  ASSERT_EQ(measure.size(), 15u + 24u);
+  for (std::size_t f = 0; f < measure.size(); ++f) EXPECT_EQ(measure[f], hex.origin_types[f] == 5 ? 1.0 : 0.5) << f;
+
+  const tetia::Supermesh sm = tetia::supermesh(tet, hex);
+  const tetia::FileCellPairs fp = tetia::file_cell_pairs(sm);
+  ASSERT_EQ(fp.piece_pair.size(), sm.pieces.size());
+  EXPECT_LT(fp.pairs.size(), sm.pieces.size());
+  std::vector<double> covered(measure.size(), 0.0), from_pieces(fp.pairs.size(), 0.0);
+  for (std::size_t i = 0; i < fp.pairs.size(); ++i) {
+    const auto& q = fp.pairs[i];
+    covered[static_cast<std::size_t>(q.target)] += q.volume;
+    if (i > 0) {
+      const auto& r = fp.pairs[i - 1];
+      EXPECT_TRUE(r.target < q.target || (r.target == q.target && r.source < q.source)) << i;
+    }
+  }
+  for (std::size_t k = 0; k < sm.pieces.size(); ++k) {
+    const auto i = static_cast<std::size_t>(fp.piece_pair[k]);
+    ASSERT_LT(i, fp.pairs.size());
+    EXPECT_EQ(fp.pairs[i].source, sm.pieces[k].source);  // the source is not split
+    EXPECT_EQ(static_cast<std::size_t>(fp.pairs[i].target), hex.file_cell(static_cast<std::size_t>(sm.pieces[k].target)));
+    from_pieces[i] += sm.pieces[k].volume;
+  }
+  for (std::size_t i = 0; i < fp.pairs.size(); ++i) EXPECT_NEAR(from_pieces[i], fp.pairs[i].volume, 1e-15) << i;
+  for (std::size_t f = 0; f < measure.size(); ++f) EXPECT_NEAR(covered[f], measure[f], 1e-13 * measure[f]) << f;
+
+  // P0 per file cell: a constant, and the integral of a linear field.
+  const auto per_file_cell = [&](const std::vector<double>& simplex_values) {
+    return tetia::file_cell_average(hex, simplex_values);
+  };
+  const std::vector<double> three = per_file_cell(tetia::remap_p0(sm, std::vector<double>(tet.num_cells(), 3.0)));
+  ASSERT_EQ(three.size(), measure.size());
+  for (std::size_t f = 0; f < three.size(); ++f) EXPECT_NEAR(three[f], 3.0, 3e-13) << f;
+  const std::vector<double> u = tetia::average_over_cells(tet, [](tetia::Vec3 x) { return x.x + 2 * x.y - x.z; });
+  const std::vector<double> v = per_file_cell(tetia::remap_p0(sm, u));
+  double source_integral = 0.0, target_integral = 0.0;
+  for (std::size_t c = 0; c < u.size(); ++c) source_integral += u[c] * tet.volumes[c];
+  for (std::size_t f = 0; f < v.size(); ++f) target_integral += v[f] * measure[f];
+  EXPECT_NEAR(target_integral, source_integral, 1e-13 * std::abs(source_integral));
+  EXPECT_EQ(tetia::spread_to_simplices(hex, v).size(), hex.num_cells());
+
+  // The mesh against itself: each file cell with itself, and its values back.
+  const tetia::Supermesh self = tetia::supermesh(hex, hex);
+  const tetia::FileCellPairs sp = tetia::file_cell_pairs(self);
+  ASSERT_EQ(sp.pairs.size(), measure.size());
+  for (std::size_t f = 0; f < measure.size(); ++f) {
+    EXPECT_EQ(static_cast<std::size_t>(sp.pairs[f].source), f);
+    EXPECT_EQ(static_cast<std::size_t>(sp.pairs[f].target), f);
+    EXPECT_NEAR(sp.pairs[f].volume, measure[f], 1e-15);
+  }
+  const std::vector<double> ten = tetia::read_msh_field(p, "ten", true);
+  const std::vector<double> back = tetia::file_cell_average(hex, tetia::remap_p0(self, ten));
+  for (std::size_t f = 0; f < back.size(); ++f)
+    EXPECT_NEAR(back[f], 10.0 * double(hex.origin_tags[f]), 1e-12 * 10.0 * double(hex.origin_tags[f])) << f;
+  // Sizes are checked.
+  EXPECT_THROW((void)tetia::file_cell_average(hex, std::vector<double>(3)), std::invalid_argument);
+  EXPECT_THROW((void)tetia::spread_to_simplices(hex, std::vector<double>(hex.num_cells())), std::invalid_argument);
+}
+
+// VTU and .msh output of a mesh with split cells: the file's cells, with their tags and types;
+// VTK computes each one's volume from the node order written as positive and equal to the
+// cell's (the wedge's order differs from Gmsh's). With VtuOptions::simplices, the simplices.
+TEST_F(CellTypes, OutputsWriteTheFileCells) {
+  const fs::path src = fs::path(__FILE__).parent_path().parent_path() / "fuzz" / "corpus" / "fuzz_msh_reader" /
+                       "hex_prism_pyramid_22.msh";
+  const tetia::TetMesh m = tetia::read_mesh(src);
+  ASSERT_EQ(m.num_file_cells(), 4u);
+  const std::vector<double> measure = tetia::file_cell_measures(m);
+  EXPECT_EQ(measure, (std::vector<double>{1.0, 0.5, 0.5, 1.0 / 3.0}));
+  const std::vector<double> p = tetia::file_cell_average(m, tetia::read_msh_field(src, "p", true));
+  EXPECT_EQ(p, (std::vector<double>{1.5, 2.5, 3.5, 4.5}));
+  for (const auto format : {tetia::VtuFormat::binary, tetia::VtuFormat::ascii}) {
+    tetia::VtuOptions options;
+    options.format = format;
+    const fs::path file = path(format == tetia::VtuFormat::binary ? "cells.vtu" : "cells_ascii.vtu");
+    tetia::write_vtu(file, m, {{"p", p}}, {}, options);
+    const tetia::testvtu::VtkView v = tetia::testvtu::read_with_vtk(file);
+    ASSERT_TRUE(v.ok) << v.error;
+    EXPECT_EQ(v.cell_types, (std::vector<int>{12, 13, 13, 14}));
+    ASSERT_NE(v.cell_array("cell_id"), nullptr);
+    EXPECT_EQ(v.cell_array("cell_id")->values, (std::vector<double>{1, 2, 3, 4}));
+    ASSERT_NE(v.cell_array("p"), nullptr);
+    EXPECT_EQ(v.cell_array("p")->values, p);
+    ASSERT_NE(v.cell_array("vtk:measure"), nullptr);
+    const auto& vol = v.cell_array("vtk:measure")->values;
+    ASSERT_EQ(vol.size(), 4u);
+    for (std::size_t f = 0; f < 4; ++f) EXPECT_NEAR(vol[f], measure[f], 1e-12) << "cell " << f << " type " << v.cell_types[f];
+  }
+  tetia::VtuOptions simplices;
+  simplices.simplices = true;
+  const fs::path split = path("simplices.vtu");
+  tetia::write_vtu(split, m, {{"q", std::vector<double>(m.num_cells(), 1.0)}}, {}, simplices);
+  const tetia::testvtu::VtkView vs = tetia::testvtu::read_with_vtk(split);
+  ASSERT_TRUE(vs.ok) << vs.error;
+  EXPECT_EQ(vs.cells.size(), m.num_cells());
+  for (const int t : vs.cell_types) EXPECT_EQ(t, 10);
+  // Cell data per simplex for file cells (or the other way round) is refused.
+  EXPECT_THROW(tetia::write_vtu(path("bad.vtu"), m, {{"q", std::vector<double>(m.num_cells(), 1.0)}}), std::runtime_error);
+
+  // .msh: the file cells again, with their tags, read back to the same mesh.
+  const fs::path again = path("again.msh");
+  tetia::write_msh(again, m, {{"p", p}});
+  const tetia::TetMesh r = tetia::read_mesh(again);
+  EXPECT_EQ(r.origin_tags, m.origin_tags);
+  EXPECT_EQ(r.origin_types, m.origin_types);
+  EXPECT_EQ(r.node_tags, m.node_tags);
+  EXPECT_EQ(r.origin_nodes, m.origin_nodes);
+  EXPECT_EQ(r.cells, m.cells);
+  EXPECT_EQ(tetia::file_cell_average(r, tetia::read_msh_field(again, "p", true)), p);
+}
+
 TEST_F(CellTypes, QuadrilateralsAsTriangles) {
   const fs::path p = path("quad.msh");
   // A 2 x 2 grid of unit squares, tags scrambled.
@@ -148,6 +234,21 @@ TEST_F(CellTypes, QuadrilateralsAsTriangles) {
     for (const auto x : nb) boundary += x < 0;
   EXPECT_EQ(boundary, 8u);
   EXPECT_EQ(m.origin_tags.size(), 4u);
+  // Written as quadrilaterals (VTK type 9) of positive area, and as .msh quadrilaterals.
+  const fs::path vtu = path("quad.vtu");
+  tetia::write_vtu(vtu, m, {{"one", std::vector<double>(4, 1.0)}});
+  const tetia::testvtu::VtkView v = tetia::testvtu::read_with_vtk(vtu);
+  ASSERT_TRUE(v.ok) << v.error;
+  EXPECT_EQ(v.cell_types, (std::vector<int>(4, 9)));
+  ASSERT_NE(v.cell_array("vtk:measure"), nullptr);
+  for (const double a : v.cell_array("vtk:measure")->values) EXPECT_NEAR(a, 1.0, 1e-14);
+  EXPECT_EQ(v.cell_array("cell_id")->values, (std::vector<double>{1, 2, 3, 4}));
+  const fs::path again = path("quad_again.msh");
+  tetia::write_msh(again, m);
+  const tetia::TriMesh r = tetia::read_tri_mesh(again);
+  EXPECT_EQ(r.origin_nodes, m.origin_nodes);
+  EXPECT_EQ(r.cells, m.cells);
+  EXPECT_EQ(tetia::file_cell_measures(r), (std::vector<double>(4, 1.0)));
 }
 
 }  // namespace

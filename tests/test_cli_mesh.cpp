@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include <sstream>
 #include <string>
 
+#include "support/cell_grids.hpp"
 #include "support/cli.hpp"
 #include "support/vtu_check.hpp"
 #include "tetia/io.hpp"
@@ -108,6 +110,78 @@ TEST_F(CliMeshTest, SupermeshWritesVtu) {
     EXPECT_NEAR(total, json_number(r.out, "intersection_volume"), 1e-12);
     EXPECT_EQ(v.cell_array("piece")->values.back() + 1, json_number(r.out, "pairs"));
   }
+}
+
+// Hexahedra and prisms (a 3x3x3 box, 39 file cells, 162 tetrahedra) against a Kuhn mesh of the
+// same box: every result is per cell of the files. The JSON counts file cells and their pairs
+// (and the simplices apart), the supermesh VTU's piece ids are the pairs, P0 gives one value per
+// hexahedron or prism and conserves the integral, the VTU has the file's cells, the P0 matrix
+// has a row per file cell, and P1 onto the hexahedral mesh reproduces a linear field.
+TEST_F(CliMeshTest, ResultsPerFileCellOfHexahedraAndPrisms) {
+  const std::string hex = (dir_ / "hex.msh").string(), tet = (dir_ / "tet.msh").string();
+  std::ofstream(hex) << tetia::testsupport::grid_msh(3, true, true);
+  tetia::write_msh(tet, tetia::make_kuhn_mesh({4, 4, 4}, {0, 0, 0}, {0.75, 0.75, 0.75}));
+  const std::string sm_vtu = (dir_ / "sm.vtu").string();
+  const Result sm = run("supermesh " + hex + " " + tet + " -o " + sm_vtu);
+  ASSERT_EQ(sm.status, 0) << sm.err;
+  EXPECT_EQ(json_number(sm.out, "source_cells"), 39);
+  EXPECT_EQ(json_number(sm.out, "source_simplices"), 162);
+  EXPECT_EQ(json_number(sm.out, "target_cells"), 384);
+  EXPECT_EQ(json_number(sm.out, "target_simplices"), 384);
+  EXPECT_LT(json_number(sm.out, "pairs"), json_number(sm.out, "simplex_pairs"));
+  EXPECT_NEAR(json_number(sm.out, "intersection_volume"), 27.0, 27e-13);
+  {
+    const tetia::testvtu::VtkView v = tetia::testvtu::read_with_vtk(sm_vtu);
+    ASSERT_TRUE(v.ok) << v.error;
+    ASSERT_NE(v.cell_array("piece"), nullptr);
+    const auto& piece = v.cell_array("piece")->values;
+    EXPECT_EQ(*std::max_element(piece.begin(), piece.end()) + 1, json_number(sm.out, "pairs"));
+  }
+  // P0 onto the hexahedra and prisms: one value per file cell.
+  const std::string r_vtu = (dir_ / "r.vtu").string(), mtx = (dir_ / "m.mtx").string();
+  const Result r = run("remap " + tet + " " + hex + " --order 0 --expr \"x+2*y-z\" -o " + r_vtu + " --matrix " + mtx);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(json_number(r.out, "target_cells"), 39);
+  EXPECT_LT(json_number(r.out, "conservation_error"), 1e-13);
+  {
+    const tetia::testvtu::VtkView v = tetia::testvtu::read_with_vtk(r_vtu);
+    ASSERT_TRUE(v.ok) << v.error;
+    ASSERT_EQ(v.cells.size(), 39u);
+    int hexahedra = 0, wedges = 0;
+    for (const int t : v.cell_types) hexahedra += t == 12, wedges += t == 13;
+    EXPECT_EQ(hexahedra, 15);
+    EXPECT_EQ(wedges, 24);
+    ASSERT_NE(v.cell_array("field"), nullptr);
+    ASSERT_NE(v.cell_array("exact"), nullptr);
+    EXPECT_EQ(v.cell_array("field")->values.size(), 39u);
+    double integral = 0.0;
+    for (std::size_t f = 0; f < 39; ++f) integral += v.cell_array("field")->values[f] * v.cell_array("vtk:measure")->values[f];
+    EXPECT_NEAR(integral, json_number(r.out, "target_integral"), 1e-12);
+  }
+  {
+    std::ifstream in(mtx);
+    std::string line;
+    while (std::getline(in, line) && line[0] == '%') {
+    }
+    std::istringstream header(line);
+    long rows = 0, cols = 0, entries = 0;
+    header >> rows >> cols >> entries;
+    EXPECT_EQ(rows, 39);
+    EXPECT_EQ(cols, 384);
+    EXPECT_EQ(entries, static_cast<long>(json_number(r.out, "pairs")));
+  }
+  // P0 from the hexahedra's element data: conservative.
+  const Result back = run("remap " + hex + " " + tet + " --order 0 --field ten");
+  ASSERT_EQ(back.status, 0) << back.err;
+  EXPECT_EQ(json_number(back.out, "source_cells"), 39);
+  EXPECT_LT(json_number(back.out, "conservation_error"), 1e-13);
+  // P1 onto the hexahedral mesh: a linear field reproduced.
+  const Result p1 = run("remap " + tet + " " + hex + " --order 1 --expr \"x+2*y-z\" -o " + r_vtu);
+  ASSERT_EQ(p1.status, 0) << p1.err;
+  EXPECT_LT(json_number(p1.out, "relative_l2_error"), 1e-10);
+  const tetia::testvtu::VtkView v1 = tetia::testvtu::read_with_vtk(r_vtu);
+  ASSERT_TRUE(v1.ok) << v1.error;
+  EXPECT_EQ(v1.cells.size(), 39u);
 }
 
 TEST_F(CliMeshTest, RemapP0OfAStoredFieldIsConservative) {

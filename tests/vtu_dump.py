@@ -8,6 +8,8 @@ tests/test_io.cpp and tests/test_tri_mesh.cpp, which compare the text with what 
     point_array NAME TYPE v0 v1 ...   (every point data array, in file order; in NAME, % and
                                        space are written %25 and %20)
     cell_array NAME TYPE v0 v1 ...    (every cell data array)
+    cell_array vtk:measure double ... (last: each cell's signed volume, area or length as VTK's
+                                       vtkCellSizeFilter computes it from its node order)
 
 Exit status 0, or 2 with a message when the file cannot be read.
 """
@@ -43,6 +45,16 @@ def main(path):
             a = data.GetArray(i)
             name = a.GetName().replace("%", "%25").replace(" ", "%20")  # one token
             out.append(f"{kind} {name} {a.GetDataTypeAsString().replace(' ', '_')} {values(a)}")
+    sizes = vtk.vtkCellSizeFilter()
+    sizes.SetInputData(grid)
+    sizes.Update()
+    measured = sizes.GetOutput().GetCellData()
+    measure = []
+    for c in range(grid.GetNumberOfCells()):
+        dim = grid.GetCell(c).GetCellDimension()
+        name = {3: "Volume", 2: "Area", 1: "Length"}.get(dim)
+        measure.append(repr(float(measured.GetArray(name).GetValue(c))) if name else "0.0")
+    out.append("cell_array vtk:measure double " + " ".join(measure))
     print("\n".join(out))
     return 0
 

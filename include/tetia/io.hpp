@@ -104,9 +104,15 @@ struct VtuOptions {
   VtuFormat format = VtuFormat::binary;
   std::vector<IdField> cell_ids, point_ids;  ///< extra Int64 arrays, after cell_id / node_id
   int threads = 0;  ///< for the compression (0: OpenMP's default); the file is the same for any
+  /// For a mesh with split file cells (TetMesh::cell_origin): write its simplices (cell data
+  /// per simplex, cell_id its file cell's tag) instead of the file's cells (cell data per file
+  /// cell, tetia/file_cells.hpp).
+  bool simplices = false;
 };
 
-/// ParaView's unstructured grid (VTK XML 1.0) with cell and point data (triangles at z = 0):
+/// ParaView's unstructured grid (VTK XML 1.0) with cell and point data (triangles at z = 0);
+/// a mesh with split file cells is written as the file's cells (VTK hexahedra, wedges,
+/// pyramids, quadrilaterals, tetrahedra, triangles), its cell data one value per file cell:
 /// point data "node_id" and cell data "cell_id" (Int64: the mesh's tags, when it has them),
 /// then the options' id fields, then the fields (Float64). Binary by default.
 void write_vtu(const std::filesystem::path& file, const TetMesh& mesh, const std::vector<Field>& cell_data = {},
@@ -114,7 +120,8 @@ void write_vtu(const std::filesystem::path& file, const TetMesh& mesh, const std
 void write_vtu(const std::filesystem::path& file, const TriMesh& mesh, const std::vector<Field>& cell_data = {},
                const std::vector<Field>& point_data = {}, const VtuOptions& options = {});
 
-/// Gmsh .msh 4.1 ASCII, with node and element data (triangles at z = 0).
+/// Gmsh .msh 4.1 ASCII, with node and element data (triangles at z = 0); a mesh with split file
+/// cells is written as the file's cells (element data per file cell), with their tags.
 void write_msh(const std::filesystem::path& file, const TetMesh& mesh, const std::vector<Field>& cell_data = {},
                const std::vector<Field>& point_data = {});
 void write_msh(const std::filesystem::path& file, const TriMesh& mesh, const std::vector<Field>& cell_data = {},

@@ -33,10 +33,13 @@ struct TetMesh {
   /// (conforming across shared faces, no new nodes: src/mesh/split_cells.hpp): then
   /// cell_origin[c] is the index of cell c's file cell, whose tag is origin_tags[i] and Gmsh
   /// element type origin_types[i] (4, 5, 6 or 7), cell_tags is empty (the tags are the file
-  /// cells'), and the file cells are in tag order. Empty: every cell is a file cell.
+  /// cells'), and the file cells are in tag order. origin_nodes holds each file cell's node
+  /// indices in Gmsh's order (8, 6, 5 or 4 of them by type, one cell after the other), for
+  /// writing the file cells back (write_vtu, write_msh). Empty: every cell is a file cell.
   std::vector<std::int32_t> cell_origin;
   std::vector<std::int64_t> origin_tags;
   std::vector<std::uint8_t> origin_types;
+  std::vector<std::int32_t> origin_nodes;
 
   // Derived by finalize():
   std::vector<std::array<std::int32_t, 4>> neighbors;  ///< cell across face k (opposite vertex k), -1 on the boundary
@@ -52,6 +55,9 @@ struct TetMesh {
             nodes[static_cast<std::size_t>(v[2])], nodes[static_cast<std::size_t>(v[3])]};
   }
   double total_volume() const;
+  /// The cells of the file: the split ones' origins, else the cells themselves.
+  std::size_t num_file_cells() const { return cell_origin.empty() ? cells.size() : origin_tags.size(); }
+  std::size_t file_cell(std::size_t c) const { return cell_origin.empty() ? c : static_cast<std::size_t>(cell_origin[c]); }
 };
 
 /// A triangular mesh of a planar domain.
@@ -64,6 +70,7 @@ struct TriMesh {
   std::vector<std::int32_t> cell_origin;
   std::vector<std::int64_t> origin_tags;
   std::vector<std::uint8_t> origin_types;
+  std::vector<std::int32_t> origin_nodes;
 
   // Derived by finalize():
   std::vector<std::array<std::int32_t, 3>> neighbors;  ///< cell across edge k (opposite vertex k), -1 on the boundary
@@ -79,12 +86,21 @@ struct TriMesh {
             nodes[static_cast<std::size_t>(v[2])]};
   }
   double total_area() const;
+  std::size_t num_file_cells() const { return cell_origin.empty() ? cells.size() : origin_tags.size(); }
+  std::size_t file_cell(std::size_t c) const { return cell_origin.empty() ? c : static_cast<std::size_t>(cell_origin[c]); }
 };
 
 /// Validates and derives adjacency and volumes; `name` is used in error messages (a file name).
 void finalize(TetMesh& mesh, const std::string& name = "mesh");
 /// The same for triangles: areas, edge adjacency, clockwise cells made counter-clockwise.
 void finalize(TriMesh& mesh, const std::string& name = "mesh");
+
+/// Gmsh's number of corner nodes of its element types 2-7 (triangle, quadrilateral,
+/// tetrahedron, hexahedron, prism, pyramid); 0 for any other type.
+constexpr int file_cell_nodes(int gmsh_type) {
+  constexpr int n[8] = {0, 0, 3, 4, 4, 8, 6, 5};
+  return gmsh_type >= 2 && gmsh_type <= 7 ? n[gmsh_type] : 0;
+}
 
 /// A structured mesh of n[0] x n[1] x n[2] cubes, each split into the six Kuhn tetrahedra
 /// (all sharing the cube's main diagonal), so faces match across cubes. Finalized.

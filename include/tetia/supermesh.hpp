@@ -92,4 +92,21 @@ struct Supermesh2 {
 
 Supermesh2 supermesh(const TriMesh& source, const TriMesh& target, const SupermeshOptions& options = {});
 
+/// The supermesh per pair of file cells (the cells of the files the meshes came from: a split
+/// hexahedron's tetrahedra together, tetia/file_cells.hpp). pairs[i].source and .target are
+/// file cell indices (TetMesh::file_cell), .volume and .first the compensated sums over the
+/// pieces of that pair, sorted by (target, source); piece_pair[k] is the index in `pairs` of
+/// pieces[k]'s pair. Without split cells, pairs are the pieces (summed exactly: one each).
+struct FileCellPairs {
+  std::vector<SupermeshPiece> pairs;
+  std::vector<std::int32_t> piece_pair;
+};
+FileCellPairs file_cell_pairs(const Supermesh& s);
+
+struct FileCellPairs2 {
+  std::vector<SupermeshPiece2> pairs;
+  std::vector<std::int32_t> piece_pair;
+};
+FileCellPairs2 file_cell_pairs(const Supermesh2& s);
+
 }  // namespace tetia

@@ -117,8 +117,10 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
   }
   auto& cells = ex.mesh.cells;
   std::vector<std::size_t> origin;  // the file cell (its position in `order`) of each cell
+  std::vector<std::int32_t> file_nodes;  // every file cell's node indices, one after the other
   cells.reserve(order.size());
   origin.reserve(order.size());
+  file_nodes.reserve(nv * order.size());
   bool split = false;
   for (std::size_t k = 0; k < order.size(); ++k) {
     const std::size_t f = order[k];
@@ -130,6 +132,7 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
         io_fail(name, file.location(fc.where[f]) + ": element " + std::to_string(fc.tags[f]) + ": unknown node tag " +
                           std::to_string(fc.nodes[f][j]));
     }
+    file_nodes.insert(file_nodes.end(), idx, idx + n);
     if (n == nv) {  // a simplex
       std::array<std::int32_t, nv> c;
       std::copy_n(idx, nv, c.begin());
@@ -169,9 +172,30 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
     ex.cell_index.build(cell_tags, order, name, "element", [](std::size_t, std::size_t) { return false; });
     ex.mesh.cell_tags.assign(cell_tags.begin(), cell_tags.end());
   } else {
-    std::vector<char> has_cells(order.size(), 0);
-    for (const std::size_t k : origin) has_cells[k] = 1;
-    for (const char h : has_cells) ex.ignored += h == 0;
+    // File cells left without simplices are dropped (and counted as ignored), the others
+    // renumbered in order, with their nodes.
+    std::vector<std::int64_t> renumber(order.size(), -1);
+    for (const std::size_t k : origin) renumber[k] = 0;
+    std::size_t kept_cells = 0, at = 0;
+    std::vector<std::int32_t>& kept_nodes = ex.mesh.origin_nodes;
+    kept_nodes.reserve(file_nodes.size());
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      const std::size_t n = nodes_of_type(file_types[k]);
+      if (renumber[k] < 0) {
+        ++ex.ignored;
+      } else {
+        renumber[k] = static_cast<std::int64_t>(kept_cells);
+        file_tags[kept_cells] = file_tags[k];
+        file_types[kept_cells] = file_types[k];
+        ++kept_cells;
+        kept_nodes.insert(kept_nodes.end(), file_nodes.begin() + static_cast<std::ptrdiff_t>(at),
+                          file_nodes.begin() + static_cast<std::ptrdiff_t>(at + n));
+      }
+      at += n;
+    }
+    file_tags.resize(kept_cells);
+    file_types.resize(kept_cells);
+    for (std::size_t& k : origin) k = static_cast<std::size_t>(renumber[k]);
     ex.cell_index.build(file_tags, order, name, "element", [](std::size_t, std::size_t) { return false; });
     ex.mesh.cell_origin.assign(origin.begin(), origin.end());
     ex.mesh.origin_tags.assign(file_tags.begin(), file_tags.end());
