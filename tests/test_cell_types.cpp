@@ -4,6 +4,7 @@
 // file cells' tags and types are kept, element data reach every simplex of their cell, and the
 // supermesh against a tetrahedral mesh of the same box totals the box (issue 16, part 3).
 #include <gtest/gtest.h>
+#include <gmsh.h>
 
 #include <algorithm>
 #include <array>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "support/cell_grids.hpp"
+#include "support/gmsh_write.hpp"
 #include "support/temp_dir.hpp"
 #include "support/vtu_check.hpp"
 #include "tetia/file_cells.hpp"
@@ -206,6 +208,96 @@ TEST_F(CellTypes, OutputsWriteTheFileCells) {
   EXPECT_EQ(r.origin_nodes, m.origin_nodes);
   EXPECT_EQ(r.cells, m.cells);
   EXPECT_EQ(tetia::file_cell_average(r, tetia::read_msh_field(again, "p", true)), p);
+}
+
+// Files Gmsh itself writes, in 2.2 and 4.1, ASCII and binary: two rectangles side by side, the
+// first meshed with quadrilaterals (recombined) and the second with triangles, extruded in
+// three recombined layers: hexahedra next to prisms, sharing quadrilateral faces. Read as
+// conforming meshes (the boundary is the box's surface, every interior triangle matched) whose
+// volume is the box's; the supermesh against a Kuhn mesh totals it, a constant is reproduced
+// per file cell, and the VTU written has every cell positive in VTK's own eyes. The 2D variant:
+// the rectangles alone, quadrilaterals and triangles.
+TEST_F(CellTypes, GmshRecombinedAndExtrudedMeshes) {
+  const auto generate = [&](int dim, double version, bool binary) {
+    tetia::testsupport::GmshScope scope;
+    namespace occ = gmsh::model::occ;
+    gmsh::model::add("recombined");
+    const int quads = occ::addRectangle(0, 0, 0, 1, 2);
+    const int triangles = occ::addRectangle(1, 0, 0, 1.5, 2);
+    std::vector<std::pair<int, int>> out;
+    std::vector<std::vector<std::pair<int, int>>> map;
+    occ::fragment({{2, quads}}, {{2, triangles}}, out, map);
+    if (dim == 3) {
+      std::vector<std::pair<int, int>> extruded;
+      occ::extrude({{2, quads}, {2, triangles}}, 0, 0, 0.9, extruded, {3}, {}, true);
+    }
+    occ::synchronize();
+    gmsh::model::mesh::setRecombine(2, quads);
+    gmsh::option::setNumber("Mesh.MeshSizeMax", 0.35);
+    gmsh::model::mesh::generate(dim);
+    gmsh::option::setNumber("Mesh.MshFileVersion", version);
+    gmsh::option::setNumber("Mesh.Binary", binary ? 1 : 0);
+    std::ostringstream name;
+    name << "gmsh_" << dim << "d_" << version << (binary ? "_bin" : "_ascii") << ".msh";
+    const fs::path file = path(name.str());
+    gmsh::write(file.string());
+    return file;
+  };
+  for (const double version : {2.2, 4.1})
+    for (const bool binary : {false, true}) {
+      SCOPED_TRACE(testing::Message() << "version " << version << (binary ? " binary" : " ASCII"));
+      const fs::path file3 = generate(3, version, binary);
+      const tetia::TetMesh m = tetia::read_mesh(file3);
+      std::size_t hexahedra = 0, prisms = 0;
+      for (const auto t : m.origin_types) hexahedra += t == 5, prisms += t == 6;
+      EXPECT_GT(hexahedra, 10u);
+      EXPECT_GT(prisms, 10u);
+      EXPECT_EQ(hexahedra + prisms, m.num_file_cells());
+      EXPECT_EQ(m.reoriented_cells, 0u);
+      EXPECT_NEAR(m.total_volume(), 2.5 * 2 * 0.9, 1e-13);
+      double boundary = 0.0;  // the area of the unmatched faces: the box's surface
+      for (std::size_t c = 0; c < m.num_cells(); ++c)
+        for (int k = 0; k < 4; ++k) {
+          if (m.neighbors[c][k] >= 0) continue;
+          const tetia::Tet t = m.cell(c);
+          const tetia::Vec3 a = t[(k + 1) % 4], b = t[(k + 2) % 4], d = t[(k + 3) % 4];
+          const tetia::Vec3 n = cross(b - a, d - a);
+          boundary += 0.5 * std::sqrt(dot(n, n));
+        }
+      EXPECT_NEAR(boundary, 2 * (2.5 * 2 + 2.5 * 0.9 + 2 * 0.9), 1e-12);
+      const tetia::TetMesh kuhn = tetia::make_kuhn_mesh({5, 4, 3}, {0, 0, 0}, {0.5, 0.5, 0.3});
+      const tetia::Supermesh sm = tetia::supermesh(kuhn, m);
+      EXPECT_NEAR(sm.intersection_volume(), 4.5, 4.5e-13);
+      const std::vector<double> one = tetia::file_cell_average(m, tetia::remap_p0(sm, std::vector<double>(kuhn.num_cells(), 1.0)));
+      for (std::size_t f = 0; f < one.size(); ++f) EXPECT_NEAR(one[f], 1.0, 1e-12) << f;
+      const fs::path vtu = path("gmsh_cells.vtu");
+      tetia::write_vtu(vtu, m, {{"one", one}});
+      const tetia::testvtu::VtkView v = tetia::testvtu::read_with_vtk(vtu);
+      ASSERT_TRUE(v.ok) << v.error;
+      ASSERT_EQ(v.cells.size(), m.num_file_cells());
+      const std::vector<double> measure = tetia::file_cell_measures(m);
+      for (std::size_t f = 0; f < measure.size(); ++f)
+        EXPECT_NEAR(v.cell_array("vtk:measure")->values[f], measure[f], 1e-12 * measure[f] + 1e-15) << f;
+
+      const tetia::TriMesh q = tetia::read_tri_mesh(generate(2, version, binary));
+      std::size_t quadrilaterals = 0;
+      for (const auto t : q.origin_types) quadrilaterals += t == 3;
+      EXPECT_GT(quadrilaterals, 10u);
+      EXPECT_LT(quadrilaterals, q.num_file_cells());
+      EXPECT_NEAR(q.total_area(), 5.0, 1e-13);
+      std::size_t unmatched = 0;
+      for (const auto& nb : q.neighbors)
+        for (const auto x : nb) unmatched += x < 0;
+      double perimeter = 0.0;
+      for (std::size_t c = 0; c < q.num_cells(); ++c)
+        for (int k = 0; k < 3; ++k)
+          if (q.neighbors[c][k] < 0) {
+            const tetia::Triangle t = q.cell(c);
+            const tetia::Vec2 e = t[(k + 2) % 3] - t[(k + 1) % 3];
+            perimeter += std::sqrt(e.x * e.x + e.y * e.y);
+          }
+      EXPECT_NEAR(perimeter, 9.0, 1e-12) << unmatched << " boundary edges";
+    }
 }
 
 TEST_F(CellTypes, QuadrilateralsAsTriangles) {

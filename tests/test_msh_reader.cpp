@@ -69,6 +69,7 @@
 #include <vector>
 
 #include "support/error_of.hpp"
+#include "support/gmsh_write.hpp"
 #include "support/temp_dir.hpp"
 #include "../src/io/gmsh_reader.hpp"
 #include "../src/io/msh_reader.hpp"
@@ -126,6 +127,7 @@ std::string with_crlf(const std::string& text) {
 }
 
 using tetia::testsupport::error_of;
+using tetia::testsupport::GmshScope;
 
 // What a field read gives: the values, or the error's message.
 struct Outcome {
@@ -236,34 +238,6 @@ std::size_t ignored_by_gmsh(const fs::path& file) {
   tetia::detail::gmsh_read_any_mesh(file, &info);
   return info.ignored_elements;
 }
-
-// Gmsh is one process-wide state: initialized once (tetia's own sessions initialize it too,
-// which Gmsh 4.8 only warns about), quiet, and cleared before and after each use here, with the
-// options the tests change put back to their defaults.
-class GmshScope {
- public:
-  GmshScope() {
-    static std::once_flag once;
-    std::call_once(once, [] { gmsh::initialize(0, nullptr, false); });
-    gmsh::option::setNumber("General.Terminal", 0);
-    gmsh::option::setNumber("General.AbortOnError", 0);
-    gmsh::clear();
-  }
-  GmshScope(const GmshScope&) = delete;
-  GmshScope& operator=(const GmshScope&) = delete;
-  ~GmshScope() {
-    try {
-      gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
-      gmsh::option::setNumber("Mesh.Binary", 0);
-      gmsh::option::setNumber("Mesh.SaveAll", 0);
-      gmsh::option::setNumber("Mesh.SaveParametric", 0);
-      gmsh::option::setNumber("Mesh.MeshSizeMin", 0);
-      gmsh::option::setNumber("Mesh.MeshSizeMax", 1e22);
-      gmsh::clear();
-    } catch (...) {  // Gmsh 4.8 throws std::string; nothing to do about it in a destructor
-    }
-  }
-};
 
 // The models Gmsh meshes and writes for the agreement tests.
 enum class Model {

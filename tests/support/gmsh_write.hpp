@@ -75,4 +75,32 @@ inline void gmsh_write(const TriMesh& m, const std::filesystem::path& file, doub
   gmsh_write_entity(2, 2, xyz, m.cells, file, version, binary, node_field, cell_field);
 }
 
+// Gmsh is one process-wide state: initialized once (tetia's own sessions initialize it too,
+// which Gmsh 4.8 only warns about), quiet, and cleared before and after each use here, with the
+// options the tests change put back to their defaults.
+class GmshScope {
+ public:
+  GmshScope() {
+    static std::once_flag once;
+    std::call_once(once, [] { gmsh::initialize(0, nullptr, false); });
+    gmsh::option::setNumber("General.Terminal", 0);
+    gmsh::option::setNumber("General.AbortOnError", 0);
+    gmsh::clear();
+  }
+  GmshScope(const GmshScope&) = delete;
+  GmshScope& operator=(const GmshScope&) = delete;
+  ~GmshScope() {
+    try {
+      gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
+      gmsh::option::setNumber("Mesh.Binary", 0);
+      gmsh::option::setNumber("Mesh.SaveAll", 0);
+      gmsh::option::setNumber("Mesh.SaveParametric", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeMin", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeMax", 1e22);
+      gmsh::clear();
+    } catch (...) {  // Gmsh 4.8 throws std::string; nothing to do about it in a destructor
+    }
+  }
+};
+
 }  // namespace tetia::testsupport
