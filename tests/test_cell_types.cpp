@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "support/cell_grids.hpp"
+#include "support/error_of.hpp"
 #include "support/gmsh_write.hpp"
 #include "support/temp_dir.hpp"
 #include "support/vtu_check.hpp"
@@ -35,6 +36,7 @@ class CellTypes : public tetia::testsupport::TempDirTest {
   CellTypes() : TempDirTest("cell_types") {}
 };
 
+using tetia::testsupport::error_of;
 using tetia::testsupport::grid_msh;
 
 void write(const fs::path& p, const std::string& s) { std::ofstream(p, std::ios::binary) << s; }
@@ -218,7 +220,7 @@ TEST_F(CellTypes, OutputsWriteTheFileCells) {
 // per file cell, and the VTU written has every cell positive in VTK's own eyes. The 2D variant:
 // the rectangles alone, quadrilaterals and triangles.
 TEST_F(CellTypes, GmshRecombinedAndExtrudedMeshes) {
-  const auto generate = [&](int dim, double version, bool binary) {
+  const auto generate = [&](int dim, double version, bool binary, int order = 1, bool incomplete = false) {
     tetia::testsupport::GmshScope scope;
     namespace occ = gmsh::model::occ;
     gmsh::model::add("recombined");
@@ -235,10 +237,16 @@ TEST_F(CellTypes, GmshRecombinedAndExtrudedMeshes) {
     gmsh::model::mesh::setRecombine(2, quads);
     gmsh::option::setNumber("Mesh.MeshSizeMax", 0.35);
     gmsh::model::mesh::generate(dim);
+    if (order > 1) {
+      gmsh::option::setNumber("Mesh.SecondOrderIncomplete", incomplete ? 1 : 0);
+      gmsh::model::mesh::setOrder(order);
+      gmsh::option::setNumber("Mesh.SecondOrderIncomplete", 0);
+    }
     gmsh::option::setNumber("Mesh.MshFileVersion", version);
     gmsh::option::setNumber("Mesh.Binary", binary ? 1 : 0);
     std::ostringstream name;
-    name << "gmsh_" << dim << "d_" << version << (binary ? "_bin" : "_ascii") << ".msh";
+    name << "gmsh_" << dim << "d_" << version << (binary ? "_bin" : "_ascii") << "_order" << order
+         << (incomplete ? "i" : "") << ".msh";
     const fs::path file = path(name.str());
     gmsh::write(file.string());
     return file;
@@ -297,6 +305,26 @@ TEST_F(CellTypes, GmshRecombinedAndExtrudedMeshes) {
             perimeter += std::sqrt(e.x * e.x + e.y * e.y);
           }
       EXPECT_NEAR(perimeter, 9.0, 1e-12) << unmatched << " boundary edges";
+
+      // Second order (hexahedra of 27 or 20 nodes, prisms of 18 or 15, quadrilaterals of 9 or
+      // 8): refused, or with corner_nodes read by their corners as the same straight cells.
+      for (const bool incomplete : {false, true}) {
+        SCOPED_TRACE(incomplete ? "incomplete second order" : "complete second order");
+        const fs::path file2 = generate(3, version, binary, 2, incomplete);
+        EXPECT_NE(error_of([&] { (void)tetia::read_mesh(file2); }).find("higher-order cells are not supported"),
+                  std::string::npos);
+        tetia::MeshReadOptions corners;
+        corners.corner_nodes = true;
+        tetia::MeshReadInfo info;
+        const tetia::TetMesh m2 = tetia::read_mesh(file2, &info, corners);
+        EXPECT_EQ(info.straightened_cells, m.num_file_cells());
+        EXPECT_EQ(m2.origin_types, m.origin_types);
+        EXPECT_EQ(m2.num_cells(), m.num_cells());
+        EXPECT_NEAR(m2.total_volume(), 4.5, 1e-13);
+        const tetia::TriMesh q2 = tetia::read_tri_mesh(generate(2, version, binary, 2, incomplete), nullptr, corners);
+        EXPECT_EQ(q2.origin_types, q.origin_types);
+        EXPECT_NEAR(q2.total_area(), 5.0, 1e-13);
+      }
     }
 }
 

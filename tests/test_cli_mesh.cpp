@@ -350,7 +350,7 @@ TEST_F(CliMeshTest, SecondOrderCellsOnlyWithCornerNodes) {
                         "$Elements\n1\n1 11 2 0 1 1 2 3 4 5 6 7 8 9 10\n$EndElements\n";
   Result r = run("supermesh " + t10 + " " + a_);
   EXPECT_EQ(r.status, 2);
-  EXPECT_NE(r.err.find("higher-order tetrahedra are not supported"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("higher-order cells are not supported"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("--corner-nodes"), std::string::npos) << r.err;
   r = run("supermesh " + t10 + " " + a_ + " --corner-nodes --progress");
   ASSERT_EQ(r.status, 0) << r.err;

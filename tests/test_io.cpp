@@ -351,7 +351,7 @@ TEST_F(IoTest, ReadErrorsNameTheFile) {
              "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n10\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n"
              "5 .5 0 0\n6 .5 .5 0\n7 0 .5 0\n8 0 0 .5\n9 0 .5 .5\n10 .5 0 .5\n$EndNodes\n"
              "$Elements\n1\n1 11 2 0 1 1 2 3 4 5 6 7 8 9 10\n$EndElements\n");
-  expect_error(path("tet10.msh"), "higher-order tetrahedra are not supported");
+  expect_error(path("tet10.msh"), "higher-order cells are not supported");
 
   // Truncated in the middle of $Nodes, and an element naming a node that does not exist.
   const std::string mixed = kMixedMsh22;

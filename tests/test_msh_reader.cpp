@@ -1109,13 +1109,13 @@ TEST_F(MshReaderTest, AcceptedOddities) {
     SCOPED_TRACE(name);
     const fs::path file = write(name, text);
     EXPECT_EQ(tetia::mesh_dimension(file), 3);
-    EXPECT_NE(error_of([&] { tetia::read_mesh(file); }).find("higher-order tetrahedra are not supported"),
+    EXPECT_NE(error_of([&] { tetia::read_mesh(file); }).find("higher-order cells are not supported"),
               std::string::npos);
-    expect_error(name, text, {"higher-order tetrahedra are not supported"});
+    expect_error(name, text, {"higher-order cells are not supported"});
   }
   const std::string tri6 = nodes10 + "$Elements\n1\n1 9 2 0 1 1 2 3 5 6 7\n$EndElements\n";
   EXPECT_EQ(tetia::mesh_dimension(write("tri6.msh", tri6)), 2);
-  expect_error("tri6.msh", tri6, {"higher-order triangles are not supported"});
+  expect_error("tri6.msh", tri6, {"higher-order cells are not supported"});
 }
 
 // A mesh repeated in a file (as Gmsh writes it again before each view it appends) is one mesh:

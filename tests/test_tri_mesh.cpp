@@ -356,7 +356,7 @@ TEST_F(TriIoTest, DimensionOfAFile) {
              "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n6\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 .5 0 0\n5 .5 .5 0\n"
              "6 0 .5 0\n$EndNodes\n$Elements\n1\n1 9 2 0 1 1 2 3 4 5 6\n$EndElements\n");
   EXPECT_EQ(tetia::mesh_dimension(path("tri6.msh")), 2);
-  EXPECT_NE(error_of([&] { tetia::read_tri_mesh(path("tri6.msh")); }).find("higher-order triangles are not supported"),
+  EXPECT_NE(error_of([&] { tetia::read_tri_mesh(path("tri6.msh")); }).find("higher-order cells are not supported"),
             std::string::npos);
 }
 

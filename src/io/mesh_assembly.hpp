@@ -221,7 +221,7 @@ std::string no_cells_message(const Extracted<Mesh>& ex) {
   const std::string cells = detail::Dim<Mesh>::cells_word;
   std::string m = "no " + cells;
   if (ex.higher_order > 0)
-    m += " of first order (" + std::to_string(ex.higher_order) + " higher-order " + cells +
+    m += " of first order (" + std::to_string(ex.higher_order) + " higher-order cells"
          " are not supported; convert with Gmsh: -order 1, or read their corner nodes only: --corner-nodes)";
   else
     m += " (" + std::to_string(ex.ignored) + " other elements ignored)";

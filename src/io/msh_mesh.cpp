@@ -16,16 +16,23 @@ template <class Mesh>
 Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool corner_nodes) {
   using Dm = Dim<Mesh>;
   constexpr std::size_t nv = Dm::nv;
-  const MshCells& first_order = Dm::d == 3 ? file.tetrahedra : file.triangles;
-  const MshCells& higher = Dm::d == 3 ? file.higher_tetrahedra : file.higher_triangles;
-  MshCells merged;  // with corner_nodes: both, first order first
-  if (corner_nodes && !higher.tags.empty()) {
-    merged = first_order;
-    merged.tags.insert(merged.tags.end(), higher.tags.begin(), higher.tags.end());
-    merged.nodes.insert(merged.nodes.end(), higher.nodes.begin(), higher.nodes.end());
-    merged.where.insert(merged.where.end(), higher.where.begin(), higher.where.end());
-  }
-  const MshCells& kept = corner_nodes && !higher.tags.empty() ? merged : first_order;
+  // Each kept type, and with corner_nodes its higher orders by their corners (first order first).
+  std::array<MshCells, 5> merged;
+  const auto with_higher = [&](const MshCells& first, const MshCells& higher, int slot) -> const MshCells& {
+    if (!corner_nodes || higher.tags.empty()) return first;
+    MshCells& m = merged[static_cast<std::size_t>(slot)];
+    m = first;
+    m.tags.insert(m.tags.end(), higher.tags.begin(), higher.tags.end());
+    m.nodes.insert(m.nodes.end(), higher.nodes.begin(), higher.nodes.end());
+    m.where.insert(m.where.end(), higher.where.begin(), higher.where.end());
+    return m;
+  };
+  const MshCells& kept = Dm::d == 3 ? with_higher(file.tetrahedra, file.higher_tetrahedra, 0)
+                                    : with_higher(file.triangles, file.higher_triangles, 0);
+  const MshCells& hexahedra = with_higher(file.hexahedra, file.higher_hexahedra, 1);
+  const MshCells& prisms = with_higher(file.prisms, file.higher_prisms, 2);
+  const MshCells& pyramids = with_higher(file.pyramids, file.higher_pyramids, 3);
+  const MshCells& quadrangles = with_higher(file.quadrangles, file.higher_quadrangles, 4);
   const MshCells& other = Dm::d == 3 ? file.triangles : file.tetrahedra;
   Extracted<Mesh> ex;
   const auto lines = [&](const std::vector<std::size_t>& where) {
@@ -67,19 +74,20 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
       fc.where.push_back(c.where[i]);
     }
   };
-  const std::size_t total = kept.tags.size() + file.hexahedra.tags.size() + file.prisms.tags.size() +
-                            file.pyramids.tags.size() + file.quadrangles.tags.size();
+  const std::size_t total = kept.tags.size() + (Dm::d == 3 ? hexahedra.tags.size() + prisms.tags.size() +
+                                                               pyramids.tags.size()
+                                                             : quadrangles.tags.size());
   fc.tags.reserve(total);
   fc.nodes.reserve(total);
   fc.types.reserve(total);
   fc.where.reserve(total);
   add_cells(kept, Dm::d == 3 ? 4 : 2, nv);
   if constexpr (Dm::d == 3) {
-    add_cells(file.hexahedra, 5, 8);
-    add_cells(file.prisms, 6, 6);
-    add_cells(file.pyramids, 7, 5);
+    add_cells(hexahedra, 5, 8);
+    add_cells(prisms, 6, 6);
+    add_cells(pyramids, 7, 5);
   } else {
-    add_cells(file.quadrangles, 3, 4);
+    add_cells(quadrangles, 3, 4);
   }
   const auto nodes_of_type = [](int type) { return std::size_t(type == 4 ? 4 : type == 2 ? 3 : msh_nodes_per_element(type)); };
   {
@@ -105,7 +113,13 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
     std::sort(t.begin(), t.end());
     return static_cast<std::size_t>(std::unique(t.begin(), t.end()) - t.begin());
   };
-  const std::size_t higher_distinct = distinct(higher.tags);
+  std::vector<std::uint64_t> higher_tags;  // this dimension's cells of order > 1
+  for (const MshCells* h : Dm::d == 3 ? std::array<const MshCells*, 4>{&file.higher_tetrahedra, &file.higher_hexahedra,
+                                                                       &file.higher_prisms, &file.higher_pyramids}
+                                      : std::array<const MshCells*, 4>{&file.higher_triangles, &file.higher_quadrangles,
+                                                                       nullptr, nullptr})
+    if (h != nullptr) higher_tags.insert(higher_tags.end(), h->tags.begin(), h->tags.end());
+  const std::size_t higher_distinct = distinct(higher_tags);
   ex.ignored = file.other_elements + distinct(other.tags);
   if constexpr (Dm::d == 3) ex.ignored += distinct(file.quadrangles.tags);
   else ex.ignored += distinct(file.hexahedra.tags) + distinct(file.prisms.tags) + distinct(file.pyramids.tags);
@@ -214,9 +228,9 @@ template Extracted<TriMesh> extract_msh<TriMesh>(const MshFile&, const std::stri
 
 int msh_dimension(const MshFile& file) {
   if (!file.tetrahedra.tags.empty() || !file.hexahedra.tags.empty() || !file.prisms.tags.empty() ||
-      !file.pyramids.tags.empty() || file.higher_order_tetrahedra > 0)
+      !file.pyramids.tags.empty() || file.higher_order_3d > 0)
     return 3;
-  if (!file.triangles.tags.empty() || !file.quadrangles.tags.empty() || file.higher_order_triangles > 0) return 2;
+  if (!file.triangles.tags.empty() || !file.quadrangles.tags.empty() || file.higher_order_2d > 0) return 2;
   return 0;
 }
 

@@ -39,8 +39,18 @@ int msh_nodes_per_element(int type) {
 
 namespace {
 
-bool is_higher_order_tetrahedron(int type) { return type == 11 || (type >= 29 && type <= 31); }
-bool is_higher_order_triangle(int type) { return type == 9 || (type >= 20 && type <= 25); }
+// The first-order type of a higher-order cell (Gmsh lists the corners first, in the first-order
+// element's order): tetrahedra 11, 29-31; triangles 9, 20-25; hexahedra 12, 17, 92, 93; prisms
+// 13, 18; pyramids 14, 19; quadrilaterals 10, 16. 0 for any other type.
+int corner_type_of(int type) {
+  if (type == 11 || (type >= 29 && type <= 31)) return 4;
+  if (type == 9 || (type >= 20 && type <= 25)) return 2;
+  if (type == 12 || type == 17 || type == 92 || type == 93) return 5;
+  if (type == 13 || type == 18) return 6;
+  if (type == 14 || type == 19) return 7;
+  if (type == 10 || type == 16) return 3;
+  return 0;
+}
 
 // Tags are kept as int64 (TetMesh::node_tags): larger ones are refused.
 constexpr std::uint64_t kMaxTag = std::numeric_limits<std::int64_t>::max();
@@ -103,10 +113,12 @@ class Parser {
       } else if (section == "Elements") {
         if (out_.major == 2 && elements_segment_ >= 0 && elements_segment_ != segment_) {
           for (MshCells* c : {&out_.tetrahedra, &out_.triangles, &out_.hexahedra, &out_.prisms, &out_.pyramids,
-                              &out_.quadrangles, &out_.higher_tetrahedra, &out_.higher_triangles})
+                              &out_.quadrangles, &out_.higher_tetrahedra, &out_.higher_triangles,
+                              &out_.higher_hexahedra, &out_.higher_prisms, &out_.higher_pyramids,
+                              &out_.higher_quadrangles})
             *c = MshCells{};
           other_tags_.clear();
-          out_.higher_order_tetrahedra = out_.higher_order_triangles = 0;
+          out_.higher_order_3d = out_.higher_order_2d = 0;
         }
         elements_segment_ = segment_;
         elements = true;
@@ -482,13 +494,19 @@ class Parser {
                                   : nullptr;
     if (cells == nullptr) {
       other_tags_.push_back(tag);
-      const bool tet = is_higher_order_tetrahedron(type), tri = is_higher_order_triangle(type);
-      out_.higher_order_tetrahedra += tet;
-      out_.higher_order_triangles += tri;
-      if (!tet && !tri) return;
-      cells = tet ? &out_.higher_tetrahedra : &out_.higher_triangles;  // the corners come first
+      const int corners = corner_type_of(type);
+      if (corners == 0) return;
+      const bool volume = corners >= 4;
+      out_.higher_order_3d += volume;
+      out_.higher_order_2d += !volume;
+      cells = corners == 4   ? &out_.higher_tetrahedra
+              : corners == 2 ? &out_.higher_triangles
+              : corners == 5 ? &out_.higher_hexahedra
+              : corners == 6 ? &out_.higher_prisms
+              : corners == 7 ? &out_.higher_pyramids
+                             : &out_.higher_quadrangles;
       cells->tags.push_back(tag);
-      cells->nodes.insert(cells->nodes.end(), nodes, nodes + (tet ? 4 : 3));
+      cells->nodes.insert(cells->nodes.end(), nodes, nodes + msh_nodes_per_element(corners));  // the corners come first
       cells->where.push_back(at);
       return;
     }

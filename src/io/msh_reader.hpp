@@ -75,11 +75,11 @@ struct MshFile {
   MshCells pyramids;    ///< Gmsh type 7, 5 nodes
   MshCells quadrangles; ///< Gmsh type 3, 4 nodes (split into triangles)
   std::size_t other_elements = 0;          ///< elements of every other type
-  std::size_t higher_order_tetrahedra = 0;  ///< among them: tetrahedra of order > 1
-  std::size_t higher_order_triangles = 0;   ///< and triangles of order > 1
-  /// Those tetrahedra and triangles by their corner nodes only (Gmsh lists the corners first),
-  /// for reading them as straight cells on request (MeshReadOptions::corner_nodes).
-  MshCells higher_tetrahedra, higher_triangles;
+  std::size_t higher_order_3d = 0;  ///< among them: tetrahedra, hexahedra, prisms, pyramids of order > 1
+  std::size_t higher_order_2d = 0;  ///< and triangles, quadrilaterals of order > 1
+  /// Those cells by their corner nodes only (Gmsh lists the corners first, in the first-order
+  /// cell's order), for reading them as straight cells on request (MeshReadOptions::corner_nodes).
+  MshCells higher_tetrahedra, higher_triangles, higher_hexahedra, higher_prisms, higher_pyramids, higher_quadrangles;
 
   std::vector<MshData> data;
 
