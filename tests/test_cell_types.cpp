@@ -328,6 +328,57 @@ TEST_F(CellTypes, GmshRecombinedAndExtrudedMeshes) {
     }
 }
 
+// Collapsed cells as generators write them: a hexahedron with two nodes twice (a prism) next to
+// a cube, sharing its face x = 1, and one with its top face in one node (a pyramid) on the
+// cube's top; in 2D a quadrilateral with a node twice (a triangle). Read as conforming meshes:
+// volume 1 + 1/2 + 1/3, and a boundary that is exactly the union's surface (every shared face
+// matched), each collapsed cell one file cell.
+TEST_F(CellTypes, CollapsedCellsAreReadByTheirVolume) {
+  const fs::path p = path("collapsed.msh");
+  write(p,
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n11\n"
+        "1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0 0 1\n6 1 0 1\n7 1 1 1\n8 0 1 1\n9 2 0 0\n10 2 0 1\n11 0.5 0.5 2\n"
+        "$EndNodes\n$Elements\n3\n"
+        "1 5 2 1 1 1 2 3 4 5 6 7 8\n"
+        "2 5 2 1 1 2 9 3 3 6 10 7 7\n"
+        "3 5 2 1 1 5 6 7 8 11 11 11 11\n"
+        "$EndElements\n");
+  const tetia::TetMesh m = tetia::read_mesh(p);
+  EXPECT_EQ(m.num_file_cells(), 3u);
+  EXPECT_EQ(m.reoriented_cells, 0u);
+  EXPECT_EQ(m.flat_cells, 0u);
+  const std::vector<double> measure = tetia::file_cell_measures(m);
+  EXPECT_EQ(measure[0], 1.0);
+  EXPECT_EQ(measure[1], 0.5);
+  EXPECT_NEAR(measure[2], 1.0 / 3.0, 1e-16);
+  double boundary = 0.0;
+  for (std::size_t c = 0; c < m.num_cells(); ++c)
+    for (int k = 0; k < 4; ++k) {
+      if (m.neighbors[c][k] >= 0) continue;
+      const tetia::Tet t = m.cell(c);
+      const tetia::Vec3 n = cross(t[(k + 2) % 4] - t[(k + 1) % 4], t[(k + 3) % 4] - t[(k + 1) % 4]);
+      boundary += 0.5 * std::sqrt(dot(n, n));
+    }
+  EXPECT_NEAR(boundary, 6.0 + std::sqrt(2.0) + 2.0 * std::sqrt(1.25), 1e-13);
+  const tetia::Supermesh sm = tetia::supermesh(m, tetia::make_kuhn_mesh({4, 2, 4}, {0, 0, 0}, {0.5, 0.5, 0.5}));
+  EXPECT_NEAR(sm.intersection_volume(), 1.0 + 0.5 + 1.0 / 3.0, 1e-14);
+  // Written as the file's (degenerate) hexahedra, which VTK measures right.
+  const fs::path vtu = path("collapsed.vtu");
+  tetia::write_vtu(vtu, m);
+  const tetia::testvtu::VtkView v = tetia::testvtu::read_with_vtk(vtu);
+  ASSERT_TRUE(v.ok) << v.error;
+  EXPECT_EQ(v.cell_types, (std::vector<int>{12, 12, 12}));
+  for (std::size_t f = 0; f < 3; ++f) EXPECT_NEAR(v.cell_array("vtk:measure")->values[f], measure[f], 1e-15) << f;
+
+  const fs::path q = path("collapsed_quad.msh");
+  write(q,
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 2 0 0\n$EndNodes\n"
+        "$Elements\n2\n1 3 2 1 1 1 2 3 4\n2 3 2 1 1 2 5 3 3\n$EndElements\n");
+  const tetia::TriMesh t = tetia::read_tri_mesh(q);
+  EXPECT_EQ(t.num_cells(), 3u);
+  EXPECT_EQ(tetia::file_cell_measures(t), (std::vector<double>{1.0, 0.5}));
+}
+
 TEST_F(CellTypes, QuadrilateralsAsTriangles) {
   const fs::path p = path("quad.msh");
   // A 2 x 2 grid of unit squares, tags scrambled.

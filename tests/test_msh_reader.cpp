@@ -1091,10 +1091,14 @@ TEST_F(MshReaderTest, AcceptedOddities) {
   expect_error("only_lines.msh", lines_only, {"no tetrahedra or triangles (2 other elements ignored)"});
   EXPECT_NE(error_of([&] { tetia::read_mesh(path("only_lines.msh")); }).find("no tetrahedra (2 other elements ignored)"),
             std::string::npos);
-  // A collapsed hexahedron (a node twice): its tag and line.
+  // A collapsed hexahedron (nodes given twice) is read by its pieces with volume
+  // (test_cell_types.cpp checks what they fill).
   const std::string collapsed = kTets22.substr(0, kTets22.find("$Elements")) +
                                 "$Elements\n1\n7 5 2 1 1 1 2 3 4 5 1 2 3\n$EndElements\n";
-  expect_error("collapsed_hex.msh", collapsed, {"element 7: node 1 given twice (collapsed hexahedra are not supported)"});
+  std::ofstream(path("collapsed_hex.msh")) << collapsed;
+  const TetMesh collapsed_mesh = tetia::read_mesh(path("collapsed_hex.msh"));
+  EXPECT_EQ(collapsed_mesh.origin_tags, (std::vector<std::int64_t>{7}));
+  EXPECT_GT(collapsed_mesh.num_cells(), 0u);
 
   // Higher-order tetrahedra (10 nodes) and triangles (6 nodes): named as not supported.
   const std::string nodes10 =

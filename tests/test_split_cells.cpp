@@ -84,6 +84,64 @@ TEST(SplitCells, HexahedronEveryOrder) { check_all_orders(SplitShape::hexahedron
 TEST(SplitCells, PrismEveryOrder) { check_all_orders(SplitShape::prism, 3, 3); }
 TEST(SplitCells, PyramidEveryOrder) { check_all_orders(SplitShape::pyramid, 2, 2); }
 
+// Collapsed cells (a node twice), as generators write prisms, pyramids and tetrahedra as
+// degenerate hexahedra and prisms: for every order of the distinct nodes' tags, the pieces have
+// no repeated node, are positive and fill the collapsed cell exactly.
+TEST(SplitCells, CollapsedCellsEveryOrder) {
+  struct Collapsed {
+    SplitShape shape;
+    std::vector<Vec3> points;  // the distinct corners
+    std::vector<int> corners;  // the cell's corners (Gmsh's order) as indices into points
+    double unit6;              // six times the volume before the affine map
+  };
+  const std::vector<Vec3> prism = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
+  const std::vector<Vec3> pyramid = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, 1}};
+  const std::vector<Vec3> tet = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const std::vector<Collapsed> cases = {
+      {SplitShape::hexahedron, prism, {0, 1, 2, 2, 3, 4, 5, 5}, 3.0},    // a prism
+      {SplitShape::hexahedron, pyramid, {0, 1, 2, 3, 4, 4, 4, 4}, 2.0},  // a pyramid
+      {SplitShape::prism, tet, {0, 1, 2, 3, 3, 3}, 1.0},                 // a tetrahedron
+      {SplitShape::pyramid, tet, {0, 1, 2, 2, 3}, 1.0},                  // a tetrahedron
+  };
+  const double det_a = cell_volume6(SplitShape::hexahedron) / 6.0;
+  for (const Collapsed& c : cases) {
+    std::vector<Vec3> p = c.points;
+    for (Vec3& q : p) q = {2 * q.x + 0.5 * q.y + 0.25 * q.z + 3, 0.25 * q.x + 1.5 * q.y - 0.5 * q.z - 1, 0.125 * q.x + 0.5 * q.y + 1.75 * q.z};
+    std::vector<std::uint64_t> distinct_tags(p.size());
+    std::iota(distinct_tags.begin(), distinct_tags.end(), std::uint64_t{5});
+    int orders = 0;
+    do {
+      std::vector<std::uint64_t> tags;
+      for (const int k : c.corners) tags.push_back(distinct_tags[static_cast<std::size_t>(k)]);
+      std::array<int, 4> out[kMaxSplitSimplices];
+      const int n = split_cell(c.shape, c.corners.data(), tags.data(), out);
+      double sum6 = 0.0;
+      for (int k = 0; k < n; ++k) {
+        const auto& t = out[k];
+        ASSERT_FALSE(tetia::detail::repeats_a_node(t));
+        const double v = det6(p[static_cast<std::size_t>(t[0])], p[static_cast<std::size_t>(t[1])],
+                              p[static_cast<std::size_t>(t[2])], p[static_cast<std::size_t>(t[3])]);
+        ASSERT_GT(v, 0.0) << "simplex " << k << " of order " << orders;
+        sum6 += v;
+      }
+      EXPECT_EQ(sum6, c.unit6 * det_a) << "order " << orders;
+      ++orders;
+    } while (std::next_permutation(distinct_tags.begin(), distinct_tags.end()));
+    EXPECT_GE(orders, 24);
+  }
+  // A quadrilateral with a node twice is its triangle; with two pairs, nothing.
+  const int q[4] = {0, 1, 1, 2};
+  const std::uint64_t tq[4] = {7, 3, 3, 5};
+  std::array<int, 3> out[2];
+  ASSERT_EQ(tetia::detail::split_quadrangle(q, tq, out), 1);
+  std::array<int, 3> t = out[0];
+  std::sort(t.begin(), t.end());
+  EXPECT_EQ(t, (std::array<int, 3>{0, 1, 2}));
+  const int flat[4] = {0, 1, 0, 1};
+  const std::uint64_t tf[4] = {4, 9, 4, 9};
+  EXPECT_EQ(tetia::detail::split_quadrangle(flat, tf, out), 0);
+}
+
 TEST(SplitCells, QuadrangleEveryOrder) {
   const std::vector<Vec3> p = shape_points(SplitShape::quadrangle);
   std::vector<std::uint64_t> tags = {1, 2, 3, 4};
@@ -94,7 +152,7 @@ TEST(SplitCells, QuadrangleEveryOrder) {
   };
   do {
     std::array<int, 3> out[2];
-    tetia::detail::split_quadrangle(nodes, tags.data(), out);
+    ASSERT_EQ(tetia::detail::split_quadrangle(nodes, tags.data(), out), 2);
     const double a0 = area2(out[0][0], out[0][1], out[0][2]), a1 = area2(out[1][0], out[1][1], out[1][2]);
     EXPECT_GT(a0, 0.0);
     EXPECT_GT(a1, 0.0);

@@ -155,21 +155,15 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
       continue;
     }
     split = true;
-    for (std::size_t a = 0; a < n; ++a)
-      for (std::size_t b = a + 1; b < n; ++b)
-        if (idx[a] == idx[b])
-          io_fail(name, file.location(fc.where[f]) + ": element " + std::to_string(fc.tags[f]) + ": node " +
-                            std::to_string(fc.nodes[f][a]) + " given twice (collapsed " +
-                            (fc.types[f] == 5 ? "hexahedra" : fc.types[f] == 6 ? "prisms" : fc.types[f] == 7 ? "pyramids" : "quadrilaterals") +
-                            " are not supported)");
+    // A collapsed cell (a node twice) gives only its pieces with volume (split_cell).
     if constexpr (Dm::d == 3) {
       std::array<std::int32_t, 4> out[kMaxSplitSimplices];
       const int m = split_cell(static_cast<SplitShape>(fc.types[f]), idx, fc.nodes[f], out);
       for (int t = 0; t < m; ++t) cells.push_back(out[t]), origin.push_back(k);
     } else {
       std::array<std::int32_t, 3> out[2];
-      split_quadrangle(idx, fc.nodes[f], out);
-      for (const auto& t : out) cells.push_back(t), origin.push_back(k);
+      const int m = split_quadrangle(idx, fc.nodes[f], out);
+      for (int t = 0; t < m; ++t) cells.push_back(out[t]), origin.push_back(k);
     }
   }
   const std::size_t cells_before = cells.size();

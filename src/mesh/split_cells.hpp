@@ -16,7 +16,8 @@
 // Node orders are Gmsh's (its manual, "Node ordering"): a positively oriented cell gives
 // positively oriented simplices, since its faces below are listed counter-clockwise seen from
 // outside and the cone's apex lies inside them. A quadrilateral gives two triangles in its own
-// order. Allocation-free; the output arrays hold the indices given in `nodes`.
+// order. Collapsed cells (a node twice) give fewer pieces (see split_cell). Allocation-free; the
+// output arrays hold the indices given in `nodes`.
 #pragma once
 
 #include <array>
@@ -76,9 +77,25 @@ inline void split_quad(const int (&q)[4], const std::uint64_t* tags, int (&tri)[
 
 }  // namespace split_impl
 
+/// Whether a simplex has a node twice (it has no volume: the piece of a collapsed face).
+template <class Index, std::size_t N>
+bool repeats_a_node(const std::array<Index, N>& s) {
+  for (std::size_t a = 0; a < N; ++a)
+    for (std::size_t b = a + 1; b < N; ++b)
+      if (s[a] == s[b]) return true;
+  return false;
+}
+
 /// The tetrahedra of a hexahedron, prism or pyramid: `nodes` and `tags` hold its corner nodes in
-/// Gmsh's order (what the mesh indexes, and the file's tags, which decide the split; distinct).
-/// Writes up to kMaxSplitSimplices tetrahedra of mesh node indices to `out`; returns how many.
+/// Gmsh's order (what the mesh indexes, and the file's tags, which decide the split). Writes up
+/// to kMaxSplitSimplices tetrahedra of mesh node indices to `out`; returns how many.
+///
+/// Collapsed cells (a node given twice, as mesh generators write a prism or a pyramid as a
+/// degenerate hexahedron) are split by the same rule, with "the faces through the apex" read by
+/// tag, so that the cone still runs over the boundary of the collapsed cell; the pieces of its
+/// collapsed faces (a node twice) have no volume and are left out. What is left tiles the
+/// collapsed cell and meets its neighbours' faces as before: a quadrilateral face with a node
+/// twice is a triangle, and its split keeps exactly that triangle.
 template <class Index>
 int split_cell(SplitShape shape, const Index* nodes, const std::uint64_t* tags,
                std::array<Index, 4> (&out)[kMaxSplitSimplices]) {
@@ -89,31 +106,41 @@ int split_cell(SplitShape shape, const Index* nodes, const std::uint64_t* tags,
     if (tags[k] < tags[apex]) apex = k;
   const ShapeFaces sf = faces_of(shape);
   int count = 0;
+  const auto add = [&](const std::array<Index, 4>& t) {
+    if (!repeats_a_node(t)) out[count++] = t;
+  };
   for (int f = 0; f < sf.count; ++f) {
     const Face& face = sf.f[f];
     bool through_apex = false;
-    for (int k = 0; k < face.n; ++k) through_apex |= face.v[k] == apex;
+    for (int k = 0; k < face.n; ++k) through_apex |= tags[face.v[k]] == tags[apex];
     if (through_apex) continue;
     if (face.n == 3) {
-      out[count++] = {nodes[apex], nodes[face.v[0]], nodes[face.v[1]], nodes[face.v[2]]};
+      add({nodes[apex], nodes[face.v[0]], nodes[face.v[1]], nodes[face.v[2]]});
     } else {
       const int q[4] = {face.v[0], face.v[1], face.v[2], face.v[3]};
       int tri[2][3];
       split_quad(q, tags, tri);
-      for (const auto& t : tri) out[count++] = {nodes[apex], nodes[t[0]], nodes[t[1]], nodes[t[2]]};
+      for (const auto& t : tri) add({nodes[apex], nodes[t[0]], nodes[t[1]], nodes[t[2]]});
     }
   }
   return count;
 }
 
-/// The two triangles of a quadrilateral (Gmsh's order: counter-clockwise), split along the
-/// diagonal through its node of smallest tag, in the quadrilateral's rotational order.
+/// The triangles of a quadrilateral (Gmsh's order: counter-clockwise), split along the diagonal
+/// through its node of smallest tag, in the quadrilateral's rotational order: two, or one for a
+/// quadrilateral with a node twice (a triangle; the other piece has no area), or none if it has
+/// no area at all. Returns how many.
 template <class Index>
-void split_quadrangle(const Index* nodes, const std::uint64_t* tags, std::array<Index, 3> (&out)[2]) {
+int split_quadrangle(const Index* nodes, const std::uint64_t* tags, std::array<Index, 3> (&out)[2]) {
   const int q[4] = {0, 1, 2, 3};
   int tri[2][3];
   split_impl::split_quad(q, tags, tri);
-  for (int t = 0; t < 2; ++t) out[t] = {nodes[tri[t][0]], nodes[tri[t][1]], nodes[tri[t][2]]};
+  int count = 0;
+  for (int t = 0; t < 2; ++t) {
+    const std::array<Index, 3> s{nodes[tri[t][0]], nodes[tri[t][1]], nodes[tri[t][2]]};
+    if (!repeats_a_node(s)) out[count++] = s;
+  }
+  return count;
 }
 
 }  // namespace tetia::detail
