@@ -41,6 +41,20 @@ using tetia::testsupport::grid_msh;
 
 void write(const fs::path& p, const std::string& s) { std::ofstream(p, std::ios::binary) << s; }
 
+// The area of the faces without a neighbour: a conforming mesh's boundary surface (a face two
+// cells share but split differently would count twice).
+double boundary_area(const tetia::TetMesh& m) {
+  double area = 0.0;
+  for (std::size_t c = 0; c < m.num_cells(); ++c)
+    for (int k = 0; k < 4; ++k) {
+      if (m.neighbors[c][k] >= 0) continue;
+      const tetia::Tet t = m.cell(c);
+      const tetia::Vec3 n = cross(t[(k + 2) % 4] - t[(k + 1) % 4], t[(k + 3) % 4] - t[(k + 1) % 4]);
+      area += 0.5 * std::sqrt(dot(n, n));
+    }
+  return area;
+}
+
 std::size_t boundary_faces(const tetia::TetMesh& m) {
   std::size_t b = 0;
   for (const auto& nb : m.neighbors)
@@ -263,16 +277,7 @@ TEST_F(CellTypes, GmshRecombinedAndExtrudedMeshes) {
       EXPECT_EQ(hexahedra + prisms, m.num_file_cells());
       EXPECT_EQ(m.reoriented_cells, 0u);
       EXPECT_NEAR(m.total_volume(), 2.5 * 2 * 0.9, 1e-13);
-      double boundary = 0.0;  // the area of the unmatched faces: the box's surface
-      for (std::size_t c = 0; c < m.num_cells(); ++c)
-        for (int k = 0; k < 4; ++k) {
-          if (m.neighbors[c][k] >= 0) continue;
-          const tetia::Tet t = m.cell(c);
-          const tetia::Vec3 a = t[(k + 1) % 4], b = t[(k + 2) % 4], d = t[(k + 3) % 4];
-          const tetia::Vec3 n = cross(b - a, d - a);
-          boundary += 0.5 * std::sqrt(dot(n, n));
-        }
-      EXPECT_NEAR(boundary, 2 * (2.5 * 2 + 2.5 * 0.9 + 2 * 0.9), 1e-12);
+      EXPECT_NEAR(boundary_area(m), 2 * (2.5 * 2 + 2.5 * 0.9 + 2 * 0.9), 1e-12);
       const tetia::TetMesh kuhn = tetia::make_kuhn_mesh({5, 4, 3}, {0, 0, 0}, {0.5, 0.5, 0.3});
       const tetia::Supermesh sm = tetia::supermesh(kuhn, m);
       EXPECT_NEAR(sm.intersection_volume(), 4.5, 4.5e-13);
@@ -328,6 +333,56 @@ TEST_F(CellTypes, GmshRecombinedAndExtrudedMeshes) {
     }
 }
 
+// A hybrid mesh as Gmsh makes it: hexahedra (a recombined square extruded in layers) under
+// tetrahedra (an unstructured extrusion), with the pyramids Gmsh inserts between the hexahedra's
+// quadrilaterals and the tetrahedra; in 2.2 and 4.1, ASCII and binary. Read conforming (the
+// boundary is the box's surface), of exact volume, and written as VTK hexahedra, pyramids and
+// tetrahedra of the right volumes.
+TEST_F(CellTypes, GmshHybridMeshWithPyramids) {
+  for (const double version : {2.2, 4.1})
+    for (const bool binary : {false, true}) {
+      SCOPED_TRACE(testing::Message() << "version " << version << (binary ? " binary" : " ASCII"));
+      const fs::path file = path(std::string("hybrid_") + (version < 3 ? "22" : "41") + (binary ? "_bin" : "") + ".msh");
+      {
+        tetia::testsupport::GmshScope scope;
+        namespace geo = gmsh::model::geo;
+        gmsh::model::add("hybrid");
+        const int p1 = geo::addPoint(0, 0, 0, 0.3), p2 = geo::addPoint(1, 0, 0, 0.3), p3 = geo::addPoint(1, 1, 0, 0.3),
+                  p4 = geo::addPoint(0, 1, 0, 0.3);
+        const int loop = geo::addCurveLoop({geo::addLine(p1, p2), geo::addLine(p2, p3), geo::addLine(p3, p4), geo::addLine(p4, p1)});
+        const int square = geo::addPlaneSurface({loop});
+        std::vector<std::pair<int, int>> layers, above;
+        geo::extrude({{2, square}}, 0, 0, 1, layers, {3}, {}, true);  // layers[0]: the top surface
+        geo::extrude({layers[0]}, 0, 0, 1, above);                        // meshed with tetrahedra
+        geo::synchronize();
+        gmsh::model::mesh::setRecombine(2, square);
+        gmsh::model::mesh::generate(3);
+        gmsh::option::setNumber("Mesh.MshFileVersion", version);
+        gmsh::option::setNumber("Mesh.Binary", binary ? 1 : 0);
+        gmsh::write(file.string());
+      }
+      const tetia::TetMesh m = tetia::read_mesh(file);
+      std::size_t count[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+      for (const auto t : m.origin_types) ++count[t];
+      EXPECT_GT(count[5], 10u);  // hexahedra
+      EXPECT_GT(count[7], 4u);   // pyramids
+      EXPECT_GT(count[4], 100u);  // tetrahedra
+      EXPECT_EQ(m.reoriented_cells, 0u);
+      EXPECT_NEAR(m.total_volume(), 2.0, 1e-13);
+      EXPECT_NEAR(boundary_area(m), 10.0, 1e-12);
+      const tetia::Supermesh sm = tetia::supermesh(tetia::make_kuhn_mesh({3, 3, 5}, {0, 0, 0}, {1.0 / 3, 1.0 / 3, 0.4}), m);
+      EXPECT_NEAR(sm.intersection_volume(), 2.0, 2e-13);
+      const fs::path vtu = path("hybrid.vtu");
+      tetia::write_vtu(vtu, m);
+      const tetia::testvtu::VtkView v = tetia::testvtu::read_with_vtk(vtu);
+      ASSERT_TRUE(v.ok) << v.error;
+      const std::vector<double> measure = tetia::file_cell_measures(m);
+      ASSERT_EQ(v.cells.size(), measure.size());
+      for (std::size_t f = 0; f < measure.size(); ++f)
+        EXPECT_NEAR(v.cell_array("vtk:measure")->values[f], measure[f], 1e-12 * measure[f]) << f;
+    }
+}
+
 // Collapsed cells as generators write them: a hexahedron with two nodes twice (a prism) next to
 // a cube, sharing its face x = 1, and one with its top face in one node (a pyramid) on the
 // cube's top; in 2D a quadrilateral with a node twice (a triangle). Read as conforming meshes:
@@ -351,15 +406,7 @@ TEST_F(CellTypes, CollapsedCellsAreReadByTheirVolume) {
   EXPECT_EQ(measure[0], 1.0);
   EXPECT_EQ(measure[1], 0.5);
   EXPECT_NEAR(measure[2], 1.0 / 3.0, 1e-16);
-  double boundary = 0.0;
-  for (std::size_t c = 0; c < m.num_cells(); ++c)
-    for (int k = 0; k < 4; ++k) {
-      if (m.neighbors[c][k] >= 0) continue;
-      const tetia::Tet t = m.cell(c);
-      const tetia::Vec3 n = cross(t[(k + 2) % 4] - t[(k + 1) % 4], t[(k + 3) % 4] - t[(k + 1) % 4]);
-      boundary += 0.5 * std::sqrt(dot(n, n));
-    }
-  EXPECT_NEAR(boundary, 6.0 + std::sqrt(2.0) + 2.0 * std::sqrt(1.25), 1e-13);
+  EXPECT_NEAR(boundary_area(m), 6.0 + std::sqrt(2.0) + 2.0 * std::sqrt(1.25), 1e-13);
   const tetia::Supermesh sm = tetia::supermesh(m, tetia::make_kuhn_mesh({4, 2, 4}, {0, 0, 0}, {0.5, 0.5, 0.5}));
   EXPECT_NEAR(sm.intersection_volume(), 1.0 + 0.5 + 1.0 / 3.0, 1e-14);
   // Written as the file's (degenerate) hexahedra, which VTK measures right.
