@@ -100,7 +100,8 @@ int main(int argc, char** argv) {
   sm_cmd->add_option("target", sm.target, "Target mesh")->required();
   sm_cmd->add_option("-o,--output", sm.output,
                      "Write the supermesh as VTU: its pieces as simplices, with cell data piece, source and target "
-                     "(the files' cell tags) and simplex_volume (simplex_area)");
+                     "(the files' cell tags) and simplex_volume (simplex_area); Gmsh .msh 4.1 (the same as "
+                     "element data) if the name ends in .msh");
   sm_cmd->add_flag("--ascii", sm.ascii, "Write the VTU as text (default: binary, zlib-compressed)");
   sm_cmd->add_flag("--progress", sm.progress, "Show the progress line on stderr even when it is not a terminal");
   sm_cmd->add_flag("--quiet", sm.quiet, "No progress line and no notes on stderr");
@@ -136,7 +137,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({0, 1}))
       ->capture_default_str();
   rm_cmd->add_option("-o,--output", rm.output,
-                     "Write the target mesh with the remapped field as VTU (node_id and cell_id: the file's tags)");
+                     "Write the target mesh with the remapped fields: VTU (node_id and cell_id: the file's "
+                     "tags), or Gmsh .msh 4.1 if the name ends in .msh (the file's cells and tags)");
   rm_cmd->add_flag("--ascii", rm.ascii, "Write the VTU as text (default: binary, zlib-compressed)");
   rm_cmd->add_flag("--progress", rm.progress, "Show the progress line on stderr even when it is not a terminal");
   rm_cmd->add_flag("--quiet", rm.quiet, "No progress line and no notes on stderr");

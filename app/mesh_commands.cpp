@@ -159,6 +159,12 @@ double overlap_integral(const typename Kind<Mesh>::Result& s, const std::vector<
   return sum.value();
 }
 
+// Output files named *.msh are Gmsh's format (write_msh: the file's cells and tags, the fields as
+// node and element data); any other name is VTU.
+bool is_msh_path(const std::string& file) {
+  return file.size() >= 4 && file.compare(file.size() - 4, 4, ".msh") == 0;
+}
+
 // The supermesh's pieces as simplices, for ParaView: Int64 cell data "piece" (the index of the
 // piece's pair of file cells: the pieces of a split hexahedron's tetrahedra with the same target
 // file cell are one), "source" and "target" (the file's tags of its two cells), and Float64
@@ -205,11 +211,19 @@ void write_supermesh_vtu(const std::string& file, const typename Kind<Mesh>::Res
       for (const Triangle& t : s.polygons[k].triangles()) add(k, t);
     }
   }
+  const std::string measure_name = std::string("simplex_") + Kind<Mesh>::measure;
+  if (is_msh_path(file)) {  // Gmsh's element data are numbers: the ids as doubles (exact below 2^53)
+    const auto as_doubles = [](const std::vector<std::int64_t>& v) { return std::vector<double>(v.begin(), v.end()); };
+    write_msh(file, out,
+              {{"piece", as_doubles(piece)}, {"source", as_doubles(source)}, {"target", as_doubles(target)},
+               {measure_name, measure}});
+    return;
+  }
   VtuOptions options;
   options.format = format;
   options.threads = threads;
   options.cell_ids = {{"piece", std::move(piece)}, {"source", std::move(source)}, {"target", std::move(target)}};
-  write_vtu(file, out, {{std::string("simplex_") + Kind<Mesh>::measure, measure}}, {}, options);
+  write_vtu(file, out, {{measure_name, measure}}, {}, options);
 }
 
 // Rows and columns are the file cells (tetia/file_cells.hpp), in the order of their tags: a
@@ -501,10 +515,14 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
   const std::string l2[2] = {f ? num(error, "L2 error") : "null", f ? num(relative, "relative L2 error") : "null"};
   if (!cmd.output.empty()) {
     progress("writing " + cmd.output);
-    VtuOptions vtu;
-    vtu.format = cmd.ascii ? VtuFormat::ascii : VtuFormat::binary;
-    vtu.threads = cmd.threads;
-    write_vtu(cmd.output, target, cell_data, point_data, vtu);
+    if (is_msh_path(cmd.output)) {
+      write_msh(cmd.output, target, cell_data, point_data);
+    } else {
+      VtuOptions vtu;
+      vtu.format = cmd.ascii ? VtuFormat::ascii : VtuFormat::binary;
+      vtu.threads = cmd.threads;
+      write_vtu(cmd.output, target, cell_data, point_data, vtu);
+    }
   }
   Progress::get().finish();
   std::printf(

@@ -18,6 +18,7 @@
 #include "support/cell_grids.hpp"
 #include "support/cli.hpp"
 #include "support/vtu_check.hpp"
+#include "tetia/file_cells.hpp"
 #include "tetia/io.hpp"
 #include "tetia/mesh.hpp"
 
@@ -169,6 +170,32 @@ TEST_F(CliMeshTest, ResultsPerFileCellOfHexahedraAndPrisms) {
     EXPECT_EQ(rows, 39);
     EXPECT_EQ(cols, 384);
     EXPECT_EQ(entries, static_cast<long>(json_number(r.out, "pairs")));
+  }
+  // The same as .msh: the file's cells with their tags, the field per cell, read back alike.
+  const std::string r_msh = (dir_ / "r.msh").string();
+  const Result rm = run("remap " + tet + " " + hex + " --order 0 --expr \"x+2*y-z\" -o " + r_msh);
+  ASSERT_EQ(rm.status, 0) << rm.err;
+  {
+    const tetia::TetMesh written = tetia::read_mesh(r_msh), original = tetia::read_mesh(hex);
+    EXPECT_EQ(written.origin_tags, original.origin_tags);
+    EXPECT_EQ(written.origin_types, original.origin_types);
+    EXPECT_EQ(written.node_tags, original.node_tags);
+    const std::vector<double> field = tetia::file_cell_average(written, tetia::read_msh_field(r_msh, "field", true));
+    const tetia::testvtu::VtkView v = tetia::testvtu::read_with_vtk(r_vtu);
+    ASSERT_TRUE(v.ok) << v.error;
+    EXPECT_EQ(field, v.cell_array("field")->values);
+  }
+  const std::string sm_msh = (dir_ / "sm.msh").string();
+  ASSERT_EQ(run("supermesh " + hex + " " + tet + " -o " + sm_msh).status, 0);
+  {
+    const tetia::TetMesh pieces = tetia::read_mesh(sm_msh);
+    const std::vector<double> piece = tetia::read_msh_field(sm_msh, "piece", true);
+    EXPECT_EQ(*std::max_element(piece.begin(), piece.end()) + 1, json_number(sm.out, "pairs"));
+    const std::vector<double> volume = tetia::read_msh_field(sm_msh, "simplex_volume", true);
+    double total = 0.0;
+    for (const double x : volume) total += x;
+    EXPECT_NEAR(total, 27.0, 27e-13);
+    EXPECT_EQ(volume.size(), pieces.num_cells());
   }
   // P0 from the hexahedra's element data: conservative.
   const Result back = run("remap " + hex + " " + tet + " --order 0 --field ten");
