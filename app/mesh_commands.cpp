@@ -299,13 +299,12 @@ int dimension_of(const AnyMesh& m) { return std::holds_alternative<TetMesh>(m) ?
 
 // Loads a mesh of either dimension, reporting progress, ignored elements, reoriented and flat
 // cells.
-AnyMesh load(const std::string& file, bool corner_nodes, std::size_t* straightened) {
+AnyMesh load(const std::string& file, MeshReadOptions options, std::size_t* straightened, std::vector<Field>* fields) {
   progress("reading " + file);
   MeshReadInfo info;
-  MeshReadOptions options;
-  options.corner_nodes = corner_nodes;
   AnyMesh any = read_any_mesh(file, &info, options);
   *straightened = info.straightened_cells;
+  if (fields != nullptr) *fields = std::move(info.fields);
   if (info.straightened_cells > 0)
     Progress::get().note(file + ": " + std::to_string(info.straightened_cells) +
                          " higher-order cells read by their corner nodes: their geometry was made straight");
@@ -326,15 +325,19 @@ AnyMesh load(const std::string& file, bool corner_nodes, std::size_t* straighten
 }
 
 // Both meshes, which must have the same dimension (a usage error otherwise: exit status 2).
-// Also the number of cells of each made straight (--corner-nodes).
+// Also the number of cells of each made straight (--corner-nodes), and the source's fields that
+// `source_options` asks for, read in the same pass as its mesh.
 struct Loaded {
   AnyMesh source, target;
   std::size_t straightened[2] = {0, 0};
+  std::vector<Field> source_fields;
 };
-Loaded load_pair(const std::string& source, const std::string& target, bool corner_nodes) {
+Loaded load_pair(const std::string& source, const std::string& target, const MeshReadOptions& source_options) {
   Loaded l;
-  l.source = load(source, corner_nodes, &l.straightened[0]);
-  l.target = load(target, corner_nodes, &l.straightened[1]);
+  MeshReadOptions target_options;
+  target_options.corner_nodes = source_options.corner_nodes;
+  l.source = load(source, source_options, &l.straightened[0], &l.source_fields);
+  l.target = load(target, target_options, &l.straightened[1], nullptr);
   AnyMesh& a = l.source;
   AnyMesh& b = l.target;
   if (dimension_of(a) != dimension_of(b)) {
@@ -408,7 +411,8 @@ int supermesh_command(const SupermeshCommand& cmd, const Mesh& source, const Mes
 }
 
 template <class Mesh>
-int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& target, const std::string& extra) {
+int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& target, std::vector<Field>&& fields,
+                  const std::string& extra) {
   using K = Kind<Mesh>;
   // The fields: each named --field (any number of components, at --step), or the expression.
   struct Input {
@@ -427,13 +431,7 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
                       cmd.order == 0 ? spread_to_simplices(source, file_cell_average(source, average_over_cells(source, f)))
                                      : node_values(source, f)});
   } else {
-    for (const std::string& field : cmd.fields) {
-      Input in{field, 1, {}};
-      MeshReadOptions read_options;
-      read_options.corner_nodes = cmd.corner_nodes;
-      in.values = read_msh_field(cmd.source, field, cmd.order == 0, cmd.step, &in.components, read_options);
-      inputs.push_back(std::move(in));
-    }
+    for (Field& field : fields) inputs.push_back({field.name, field.components, std::move(field.values)});
   }
   SupermeshOptions options;
   options.threads = cmd.threads;
@@ -592,7 +590,9 @@ int run_supermesh(const SupermeshCommand& cmd) {
   return guarded([&] {
     Progress::get().configure(progress_mode(cmd.progress, cmd.quiet));
     check_writable(cmd.output, "-o");
-    const Loaded l = load_pair(cmd.source, cmd.target, cmd.corner_nodes);
+    MeshReadOptions options;
+    options.corner_nodes = cmd.corner_nodes;
+    const Loaded l = load_pair(cmd.source, cmd.target, options);
     const std::string extra = straightened_json(cmd.corner_nodes, l.straightened);
     if (const auto* s3 = std::get_if<TetMesh>(&l.source))
       return supermesh_command(cmd, *s3, std::get<TetMesh>(l.target), extra);
@@ -611,11 +611,17 @@ int run_remap(const RemapCommand& cmd) {
         if (cmd.fields[i] == cmd.fields[j]) throw std::invalid_argument("tetia: --field " + cmd.fields[i] + " given twice");
     check_writable(cmd.output, "-o");
     check_writable(cmd.matrix, "--matrix");
-    const Loaded l = load_pair(cmd.source, cmd.target, cmd.corner_nodes);
+    MeshReadOptions options;  // the fields are read with the source mesh, in one pass
+    options.corner_nodes = cmd.corner_nodes;
+    options.fields = cmd.fields;
+    options.fields_on_cells = cmd.order == 0;
+    options.step = cmd.step;
+    Loaded l = load_pair(cmd.source, cmd.target, options);
     const std::string extra = straightened_json(cmd.corner_nodes, l.straightened);
     if (const auto* s3 = std::get_if<TetMesh>(&l.source))
-      return remap_command(cmd, *s3, std::get<TetMesh>(l.target), extra);
-    return remap_command(cmd, std::get<TriMesh>(l.source), std::get<TriMesh>(l.target), extra);
+      return remap_command(cmd, *s3, std::get<TetMesh>(l.target), std::move(l.source_fields), extra);
+    return remap_command(cmd, std::get<TriMesh>(l.source), std::get<TriMesh>(l.target), std::move(l.source_fields),
+                         extra);
   });
 }
 

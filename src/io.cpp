@@ -211,11 +211,27 @@ struct ParsedFile {
 // Nodes by increasing tag (all of the file's nodes, used or not), first-order cells of every
 // entity and physical group by increasing tag, each node set once; then finalize(mesh, FILE).
 template <class Mesh>
+Mesh read(const ParsedFile& f, const std::string& name, MeshReadInfo* info, const MeshReadOptions& options) {
+  if (!options.fields.empty() && info == nullptr)
+    throw std::invalid_argument("tetia: " + name + ": MeshReadOptions::fields needs a MeshReadInfo to return them in");
+  const std::vector<ViewData> views =
+      info != nullptr ? detail::msh_views(f.msh, !options.fields.empty()) : std::vector<ViewData>{};
+  detail::Extracted<Mesh> ex = detail::extract_msh<Mesh>(f.msh, name, options.corner_nodes);
+  std::vector<Field> fields;
+  for (const std::string& field : options.fields) {
+    Field out{field, {}, 1};
+    out.values = field_values(name, ex, views, field, options.fields_on_cells, options.step, &out.components);
+    fields.push_back(std::move(out));
+  }
+  Mesh mesh = detail::finish_read(std::move(ex), name, views, info);
+  if (info != nullptr) info->fields = std::move(fields);
+  return mesh;
+}
+
+template <class Mesh>
 Mesh read(const std::filesystem::path& file, MeshReadInfo* info, const MeshReadOptions& options) {
   const std::string name = file.string();
-  const ParsedFile f(file, name);
-  const std::vector<ViewData> views = info != nullptr ? detail::msh_views(f.msh, false) : std::vector<ViewData>{};
-  return detail::finish_read(detail::extract_msh<Mesh>(f.msh, name, options.corner_nodes), name, views, info);
+  return read<Mesh>(ParsedFile(file, name), name, info, options);
 }
 
 // VTK XML UnstructuredGrid (format 1.0). Float64 points (z = 0 for triangles) and fields, Int32
@@ -500,10 +516,8 @@ AnyMesh read_any_mesh(const std::filesystem::path& file, MeshReadInfo* info, con
   const std::string name = file.string();
   const ParsedFile f(file, name);
   const int dim = detail::msh_dimension(f.msh);
-  const std::vector<ViewData> views = info != nullptr ? detail::msh_views(f.msh, false) : std::vector<ViewData>{};
-  const bool corners = options.corner_nodes;
-  if (dim == 3) return detail::finish_read(detail::extract_msh<TetMesh>(f.msh, name, corners), name, views, info);
-  if (dim == 2) return detail::finish_read(detail::extract_msh<TriMesh>(f.msh, name, corners), name, views, info);
+  if (dim == 3) return read<TetMesh>(f, name, info, options);
+  if (dim == 2) return read<TriMesh>(f, name, info, options);
   fail(name, "no tetrahedra or triangles (" + std::to_string(f.msh.other_elements) + " other elements ignored)");
 }
 

@@ -156,6 +156,27 @@ TEST_F(IoTest, GeneratedBoxThroughWriteMshAndBack) {
   EXPECT_EQ(absent, "tetia: " + file.string() + ": no cell field named sin x (cell fields: vol/3, index)");
   EXPECT_NE(error_of([&] { tetia::read_msh_field(file, "nope", false); }).find("no node field named nope"),
             std::string::npos);
+
+  // Fields read with the mesh, in one pass: the same values, in the order asked for.
+  tetia::MeshReadOptions with_fields;
+  with_fields.fields = {"index", "vol/3"};
+  MeshReadInfo read_info;
+  const TetMesh again = tetia::read_mesh(file, &read_info, with_fields);
+  EXPECT_EQ(again.cells, box.cells);
+  ASSERT_EQ(read_info.fields.size(), 2u);
+  EXPECT_EQ(read_info.fields[0].name, "index");
+  EXPECT_EQ(read_info.fields[0].values, std::vector<double>(box.num_cells(), 7.0));
+  EXPECT_EQ(read_info.fields[1].values, on_cells);
+  EXPECT_EQ(read_info.fields[1].components, 1);
+  with_fields.fields = {"sin x"};
+  with_fields.fields_on_cells = false;
+  (void)tetia::read_any_mesh(file, &read_info, with_fields);
+  ASSERT_EQ(read_info.fields.size(), 1u);
+  EXPECT_EQ(read_info.fields[0].values, on_nodes);
+  EXPECT_THROW((void)tetia::read_mesh(file, nullptr, with_fields), std::invalid_argument);
+  with_fields.fields = {"nope"};
+  EXPECT_NE(error_of([&] { tetia::read_mesh(file, &read_info, with_fields); }).find("no node field named nope"),
+            std::string::npos);
 }
 
 TEST_F(IoTest, FilesWrittenByGmshInEveryFormat) {

@@ -27,25 +27,37 @@
 
 namespace tetia {
 
-struct MeshReadInfo {
-  std::size_t ignored_elements = 0;  ///< elements of other types and dimensions, and repeated cells
-  std::size_t straightened_cells = 0;  ///< higher-order cells read by their corners (corner_nodes)
-  std::vector<std::string> node_fields, cell_fields;  ///< names of data found in the file (if any)
-};
-
-struct MeshReadOptions {
-  /// Read tetrahedra (triangles) of order > 1 by their corner nodes: straight cells, which
-  /// approximate curved ones (their other nodes are ignored; MeshReadInfo counts them). Off:
-  /// a file with only such cells is an error that says so.
-  bool corner_nodes = false;
-};
-
 /// A named field on a mesh: `components` values per node or per cell, in a row (1: scalar;
 /// 3: a vector; 9: a tensor).
 struct Field {
   std::string name;
   std::vector<double> values;
   int components = 1;
+};
+
+/// read_msh_field's default step: the field's only time step with values (an error naming the
+/// steps if it has several).
+inline constexpr std::int64_t kOnlyStep = std::numeric_limits<std::int64_t>::min();
+
+struct MeshReadInfo {
+  std::size_t ignored_elements = 0;  ///< elements of other types and dimensions, and repeated cells
+  std::size_t straightened_cells = 0;  ///< higher-order cells read by their corners (corner_nodes)
+  std::vector<std::string> node_fields, cell_fields;  ///< names of data found in the file (if any)
+  /// The fields MeshReadOptions::fields asked for, in that order, as read_msh_field gives them
+  /// (with their components), read in the same pass as the mesh.
+  std::vector<Field> fields;
+};
+
+struct MeshReadOptions {
+  /// Read cells of order > 1 by their corner nodes: straight cells, which approximate curved
+  /// ones (their other nodes are ignored; MeshReadInfo counts them). Off: a file with only such
+  /// cells is an error that says so.
+  bool corner_nodes = false;
+  /// Fields to read with the mesh (into MeshReadInfo::fields, which must then be given):
+  /// element data if fields_on_cells, else node data, at time step `step` (as read_msh_field).
+  std::vector<std::string> fields;
+  bool fields_on_cells = true;
+  std::int64_t step = kOnlyStep;
 };
 
 TetMesh read_mesh(const std::filesystem::path& file, MeshReadInfo* info = nullptr, const MeshReadOptions& options = {});
@@ -63,10 +75,6 @@ int mesh_dimension(const std::filesystem::path& file);
 using AnyMesh = std::variant<TetMesh, TriMesh>;
 AnyMesh read_any_mesh(const std::filesystem::path& file, MeshReadInfo* info = nullptr,
                       const MeshReadOptions& options = {});
-
-/// read_msh_field's default step: the field's only time step with values (an error naming the
-/// steps if it has several).
-inline constexpr std::int64_t kOnlyStep = std::numeric_limits<std::int64_t>::min();
 
 /// Reads a named field (node data or element data) from a .msh file, in the order of the nodes
 /// or cells of the file's dimension (read_mesh's for a 3D file, read_tri_mesh's for a 2D one);
