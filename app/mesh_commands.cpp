@@ -30,6 +30,8 @@
 #include "tetia/io.hpp"
 #include "tetia/remap.hpp"
 #include "tetia/supermesh.hpp"
+#include "tetia/tet_intersection.hpp"
+#include "tetia/tri_intersection.hpp"
 
 namespace tetia::app {
 namespace {
@@ -165,7 +167,8 @@ bool is_msh_path(const std::string& file) {
   return file.size() >= 4 && file.compare(file.size() - 4, 4, ".msh") == 0;
 }
 
-// The supermesh's pieces as simplices, for ParaView: Int64 cell data "piece" (the index of the
+// The supermesh's pieces as simplices sharing each piece's corners, for ParaView: Int64 cell
+// data "piece" (the index of the
 // piece's pair of file cells: the pieces of a split hexahedron's tetrahedra with the same target
 // file cell are one), "source" and "target" (the file's tags of its two cells), and Float64
 // "simplex_volume" (area): each simplex's own measure, so that summing it over the file gives
@@ -180,35 +183,46 @@ void write_supermesh_vtu(const std::string& file, const typename Kind<Mesh>::Res
     if (!m.cell_origin.empty()) return m.origin_tags[static_cast<std::size_t>(m.cell_origin[static_cast<std::size_t>(c)])];
     return m.cell_tags.empty() ? std::int64_t{c} + 1 : m.cell_tags[static_cast<std::size_t>(c)];
   };
-  const auto add = [&](std::size_t k, const auto& simplex) {
+  // Each piece's corners once, its simplices (the fan of tetrahedra() / triangles()) by index.
+  const auto add = [&](std::size_t k, const auto& shape, const auto& simplices) {
     const auto base = static_cast<std::int32_t>(out.nodes.size());
-    typename std::remove_reference_t<decltype(out.cells)>::value_type cell{};
-    for (std::size_t v = 0; v < simplex.size(); ++v) {
-      out.nodes.push_back(simplex[v]);
-      cell[v] = base + static_cast<std::int32_t>(v);
-    }
-    out.cells.push_back(cell);
-    piece.push_back(pairs.piece_pair[k]);
-    source.push_back(tag(*s.source, s.pieces[k].source));
-    target.push_back(tag(*s.target, s.pieces[k].target));
-    if constexpr (Kind<Mesh>::dim == 3) {
-      measure.push_back(std::abs(signed_volume(simplex)));
-    } else {
-      measure.push_back(std::abs(signed_area(simplex)));
+    for (const auto& c : shape.corners()) out.nodes.push_back(c.point);
+    for (const auto& idx : simplices) {
+      typename std::remove_reference_t<decltype(out.cells)>::value_type cell{};
+      typename std::remove_cvref_t<decltype(out.cell(0))> simplex{};
+      for (std::size_t v = 0; v < idx.size(); ++v) {
+        cell[v] = base + static_cast<std::int32_t>(idx[v]);
+        simplex[v] = shape.corner(idx[v]).point;
+      }
+      out.cells.push_back(cell);
+      piece.push_back(pairs.piece_pair[k]);
+      source.push_back(tag(*s.source, s.pieces[k].source));
+      target.push_back(tag(*s.target, s.pieces[k].target));
+      if constexpr (Kind<Mesh>::dim == 3) {
+        measure.push_back(std::abs(signed_volume(simplex)));
+      } else {
+        measure.push_back(std::abs(signed_area(simplex)));
+      }
     }
   };
-  // About five simplices per piece: reserved, so that growing does not copy (and fault in)
-  // hundreds of megabytes again.
+  // About five simplices and eight corners per piece: reserved, so that growing does not copy
+  // (and fault in) hundreds of megabytes again.
   const std::size_t expected = 5 * s.pieces.size();
-  out.nodes.reserve((Kind<Mesh>::dim + 1) * expected);
+  out.nodes.reserve(8 * s.pieces.size());
   out.cells.reserve(expected);
   for (auto* v : {&piece, &source, &target}) v->reserve(expected);
   measure.reserve(expected);
+  // The shapes are computed again here, one piece at a time, rather than kept by the supermesh
+  // (about 3 KB a polyhedron, most of the time and memory of a run with -o): the kernel on the
+  // same two cells gives the same shape bit for bit (the supermesh calls it on exactly these).
   for (std::size_t k = 0; k < s.pieces.size(); ++k) {
+    const auto& p = s.pieces[k];
+    const auto shape = intersect(s.source->cell(static_cast<std::size_t>(p.source)),
+                                 s.target->cell(static_cast<std::size_t>(p.target)));
     if constexpr (Kind<Mesh>::dim == 3) {
-      for (const Tet& t : s.polyhedra[k].tetrahedra()) add(k, t);
+      add(k, shape, shape.tetrahedra_corners());
     } else {
-      for (const Triangle& t : s.polygons[k].triangles()) add(k, t);
+      add(k, shape, shape.triangle_corners());
     }
   }
   const std::string measure_name = std::string("simplex_") + Kind<Mesh>::measure;
@@ -390,7 +404,6 @@ int supermesh_command(const SupermeshCommand& cmd, const Mesh& source, const Mes
   SupermeshOptions options;
   options.search = parse_search(cmd.search);
   options.threads = cmd.threads;
-  options.keep_polyhedra = !cmd.output.empty();
   options.progress = intersection_progress(source.num_cells());
   const auto s = supermesh(source, target, options);
   const auto pairs = file_cell_pairs(s);

@@ -47,15 +47,22 @@ TriIntersectionStats& TriIntersectionStats::operator+=(const TriIntersectionStat
   return *this;
 }
 
-std::vector<Triangle> Polygon::triangles() const {
-  std::vector<Triangle> out;
+std::vector<std::array<std::uint8_t, 3>> Polygon::triangle_corners() const {
+  std::vector<std::array<std::uint8_t, 3>> out;
   if (num_corners_ < 3) return out;
   out.reserve(static_cast<std::size_t>(num_corners_ - 2));
   const Vec2 p0 = corners_[0].point;
   for (int k = 1; k + 1 < num_corners_; ++k) {
-    const Triangle t{p0, corners_[static_cast<std::size_t>(k)].point, corners_[static_cast<std::size_t>(k) + 1].point};
-    if (orient2d(t[0], t[1], t[2]) > 0.0) out.push_back(t);
+    const auto i = static_cast<std::size_t>(k);
+    if (orient2d(p0, corners_[i].point, corners_[i + 1].point) > 0.0)
+      out.push_back({0, static_cast<std::uint8_t>(k), static_cast<std::uint8_t>(k + 1)});
   }
+  return out;
+}
+
+std::vector<Triangle> Polygon::triangles() const {
+  std::vector<Triangle> out;
+  for (const auto& t : triangle_corners()) out.push_back({corners_[t[0]].point, corners_[t[1]].point, corners_[t[2]].point});
   return out;
 }
 

@@ -11,7 +11,7 @@
 //
 // An empty polygon (no corners) means the intersection has no interior in the arithmetic used:
 // disjoint, touching, or a flat input triangle. area() is never negative or NaN. Nothing here
-// allocates except triangles().
+// allocates except triangles() and triangle_corners().
 #pragma once
 
 #include <array>
@@ -69,6 +69,8 @@ class Polygon {
   /// A triangulation: a fan from corner 0, counter-clockwise triangles whose areas add up to
   /// area() up to rounding (zero-area fan triangles of coincident corners are left out).
   std::vector<Triangle> triangles() const;
+  /// The same triangles as corner indices (for output that shares the corners).
+  std::vector<std::array<std::uint8_t, 3>> triangle_corners() const;
 
  private:
   friend struct PolygonBuilder;

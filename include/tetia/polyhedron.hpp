@@ -80,6 +80,8 @@ class Polyhedron {
   /// A tetrahedralization: a fan from corner 0 over every facet that does not contain it.
   /// Tetrahedra are positively oriented; their volumes add up to volume() up to rounding.
   std::vector<Tet> tetrahedra() const;
+  /// The same tetrahedra as corner indices (for output that shares the corners).
+  std::vector<std::array<std::uint8_t, 4>> tetrahedra_corners() const;
 
  private:
   friend struct PolyhedronBuilder;
