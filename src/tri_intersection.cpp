@@ -876,7 +876,10 @@ Outcome solve(const Triangle& A_in, const Triangle& B_in, Frame& fr, KernelResul
   if (stats && fr.swapped) ++stats->reference_swaps;
   bool ok = run_kernel<kMoments>(fr, res, stats);
   if (!ok) {
-    if (stats) ++stats->retries;
+    if (stats) {  // as in 3D: every attempt whose labels do not close is an inconsistency
+      ++stats->inconsistencies;
+      ++stats->retries;
+    }
     ok = make_frame(*As, *Bs, fr, true) == FrameStatus::ok && run_kernel<kMoments>(fr, res, stats);
     if (!ok) {
       if (stats) ++stats->inconsistencies;

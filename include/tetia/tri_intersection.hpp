@@ -45,8 +45,8 @@ struct TriIntersectionStats {
   std::int64_t corner_coordinates = 0;  ///< coordinates evaluated for corners that lie on Y
   std::int64_t guardrail_clamps = 0;    ///< a computed coordinate clamped to its decided sign
   std::int64_t reference_swaps = 0;     ///< A was better conditioned and became the reference
-  std::int64_t inconsistencies = 0;     ///< sign contradictions, and label walks that did not
-                                        ///< close with either reference (never expected)
+  std::int64_t inconsistencies = 0;     ///< kernel runs whose signs contradicted each other or
+                                        ///< whose label walk did not close (each attempt, as in 3D)
   std::int64_t retries = 0;             ///< label walks that did not close, redone with the
                                         ///< other reference
   std::int64_t refined = 0;             ///< corner coordinates recomputed in extended precision
