@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "compensated_sum.hpp"
@@ -119,7 +121,15 @@ void finalize_mesh(Mesh& m, const std::string& name) {
       std::size_t j = 0;
       for (std::size_t q = 0; q < nv; ++q)
         if (q != k) key[j++] = v[q];
-      std::sort(key.begin(), key.end());
+      // Two or three nodes: sorted by compare-exchanges (std::sort's calls cost more than this).
+      const auto order = [&](std::size_t a, std::size_t b) {
+        if (key[b] < key[a]) std::swap(key[a], key[b]);
+      };
+      order(0, 1);
+      if constexpr (nv - 1 == 3) {
+        order(1, 2);
+        order(0, 1);
+      }
       ++start[static_cast<std::size_t>(key[0]) + 1];
     }
   }
@@ -129,17 +139,26 @@ void finalize_mesh(Mesh& m, const std::string& name) {
     std::vector<std::size_t> fill(start.begin(), start.end() - 1);
     for (std::size_t f = 0; f < facets; ++f) bucket[fill[static_cast<std::size_t>(keys[f][0])]++] = f;  // f ascending
   }
+  // Within a bucket the facets share their smallest node: each is sorted by its other one or
+  // two nodes packed into 64 bits (node indices are non-negative int32), then by its position,
+  // in a local array (no indirection through keys while sorting).
+  std::vector<std::pair<std::uint64_t, std::size_t>> local;
   for (std::size_t node = 0; node < m.nodes.size(); ++node) {
-    const auto first = bucket.begin() + static_cast<std::ptrdiff_t>(start[node]);
-    const auto last = bucket.begin() + static_cast<std::ptrdiff_t>(start[node + 1]);
-    std::sort(first, last, [&](std::size_t x, std::size_t y) { return keys[x] != keys[y] ? keys[x] < keys[y] : x < y; });
-    for (auto it = first; it != last;) {
+    local.clear();
+    for (std::size_t i = start[node]; i < start[node + 1]; ++i) {
+      const Key& key = keys[bucket[i]];
+      std::uint64_t packed = static_cast<std::uint32_t>(key[1]);
+      if constexpr (nv - 1 == 3) packed = packed << 32 | static_cast<std::uint32_t>(key[2]);
+      local.emplace_back(packed, bucket[i]);
+    }
+    std::sort(local.begin(), local.end());
+    for (auto it = local.begin(); it != local.end();) {
       auto run = it + 1;
-      while (run != last && keys[*run] == keys[*it]) ++run;
+      while (run != local.end() && run->first == it->first) ++run;
       if (run - it > 2)
-        fail(name, "cell " + std::to_string(it[2] / nf) + ": " + D::facet_word + " shared by more than two cells");
+        fail(name, "cell " + std::to_string(it[2].second / nf) + ": " + D::facet_word + " shared by more than two cells");
       if (run - it == 2) {
-        const std::size_t c0 = it[0] / nf, k0 = it[0] % nf, c1 = it[1] / nf, k1 = it[1] % nf;
+        const std::size_t c0 = it[0].second / nf, k0 = it[0].second % nf, c1 = it[1].second / nf, k1 = it[1].second % nf;
         m.neighbors[c1][k1] = static_cast<std::int32_t>(c0);
         m.neighbors[c0][k0] = static_cast<std::int32_t>(c1);
       }

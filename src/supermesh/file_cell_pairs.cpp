@@ -35,6 +35,12 @@ Pairs pairs_of(const Result& s) {
   constexpr int d = std::is_same_v<Point, Vec3> ? 3 : 2;
   Pairs out;
   const auto& pieces = s.pieces;
+  if (s.source->cell_origin.empty() && s.target->cell_origin.empty()) {  // nothing split: the pieces
+    out.pairs = pieces;
+    out.piece_pair.resize(pieces.size());
+    std::iota(out.piece_pair.begin(), out.piece_pair.end(), std::int32_t{0});
+    return out;
+  }
   out.piece_pair.assign(pieces.size(), -1);
   std::vector<std::size_t> run;
   for (std::size_t begin = 0; begin < pieces.size();) {
