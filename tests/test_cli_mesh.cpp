@@ -429,6 +429,40 @@ class CliMesh2DTest : public CliMeshTest {
   std::string a2_, b2_;
 };
 
+// Quadrilaterals (a 4 x 4 grid of the unit square, tags scrambled) as the target of a 2D remap:
+// one value per quadrilateral, the VTU of quadrilaterals (VTK type 9), conservation, and P1
+// onto the quadrilaterals' nodes reproducing a linear field.
+TEST_F(CliMesh2DTest, ResultsPerQuadrilateral) {
+  const std::string quads = (dir_ / "quads.msh").string();
+  {
+    std::ofstream q(quads);
+    const int n = 4, m = n + 1;
+    const auto tag = [&](int i, int j) { return 1 + ((i + m * j) * 7) % (m * m); };  // 7 is prime to 25
+    q << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n" << m * m << "\n";
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i < m; ++i) q << tag(i, j) << ' ' << double(i) / n << ' ' << double(j) / n << " 0\n";
+    q << "$EndNodes\n$Elements\n" << n * n << "\n";
+    for (int j = 0, e = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        q << ++e << " 3 2 1 1 " << tag(i, j) << ' ' << tag(i + 1, j) << ' ' << tag(i + 1, j + 1) << ' ' << tag(i, j + 1) << '\n';
+    q << "$EndElements\n";
+  }
+  const std::string vtu = (dir_ / "q.vtu").string();
+  const Result r = run("remap " + a2_ + " " + quads + " --order 0 --expr \"x-3*y\" -o " + vtu);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(json_number(r.out, "target_cells"), 16);
+  EXPECT_EQ(json_number(r.out, "target_simplices"), 32);
+  EXPECT_LT(json_number(r.out, "conservation_error"), 1e-13);
+  const tetia::testvtu::VtkView v = tetia::testvtu::read_with_vtk(vtu);
+  ASSERT_TRUE(v.ok) << v.error;
+  EXPECT_EQ(v.cell_types, std::vector<int>(16, 9));
+  ASSERT_NE(v.cell_array("field"), nullptr);
+  EXPECT_EQ(v.cell_array("field")->values.size(), 16u);
+  const Result p1 = run("remap " + a2_ + " " + quads + " --order 1 --expr \"x-3*y\"");
+  ASSERT_EQ(p1.status, 0) << p1.err;
+  EXPECT_LT(json_number(p1.out, "relative_l2_error"), 1e-10);
+}
+
 TEST_F(CliMesh2DTest, SupermeshDetectsTheDimensionAndPrintsAreas) {
   const Result r = run("supermesh " + a2_ + " " + b2_);
   ASSERT_EQ(r.status, 0) << r.err;
