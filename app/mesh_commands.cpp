@@ -167,14 +167,14 @@ bool is_msh_path(const std::string& file) {
   return file.size() >= 4 && file.compare(file.size() - 4, 4, ".msh") == 0;
 }
 
-// The supermesh's pieces as simplices sharing each piece's corners, for ParaView: Int64 cell
-// data "piece" (the index of the
-// piece's pair of file cells: the pieces of a split hexahedron's tetrahedra with the same target
-// file cell are one), "source" and "target" (the file's tags of its two cells), and Float64
-// "simplex_volume" (area): each simplex's own measure, so that summing it over the file gives
-// the intersection's total (the piece's measure is the sum over its simplices).
+// The supermesh's pieces as simplices sharing each piece's corners, for ParaView (VTU) or Gmsh
+// (.msh): Int64 cell data "piece" (the index of the piece's pair of file cells: the pieces of a
+// split hexahedron's tetrahedra with the same target file cell are one), "source" and "target"
+// (the file's tags of its two cells), and Float64 "simplex_volume" (area): each simplex's own
+// measure, so that summing it over the file gives the intersection's total (the piece's measure
+// is the sum over its simplices).
 template <class Mesh, class Pairs>
-void write_supermesh_vtu(const std::string& file, const typename Kind<Mesh>::Result& s, const Pairs& pairs,
+void write_supermesh_file(const std::string& file, const typename Kind<Mesh>::Result& s, const Pairs& pairs,
                          VtuFormat format, int threads) {
   Mesh out;
   std::vector<std::int64_t> piece, source, target;
@@ -409,7 +409,7 @@ int supermesh_command(const SupermeshCommand& cmd, const Mesh& source, const Mes
   const auto pairs = file_cell_pairs(s);
   if (!cmd.output.empty()) {
     progress("writing " + cmd.output);
-    write_supermesh_vtu<Mesh>(cmd.output, s, pairs, cmd.ascii ? VtuFormat::ascii : VtuFormat::binary, cmd.threads);
+    write_supermesh_file<Mesh>(cmd.output, s, pairs, cmd.ascii ? VtuFormat::ascii : VtuFormat::binary, cmd.threads);
   }
   const std::string m = K::measure;
   Progress::get().finish();

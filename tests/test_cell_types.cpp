@@ -211,8 +211,14 @@ TEST_F(CellTypes, OutputsWriteTheFileCells) {
   ASSERT_TRUE(vs.ok) << vs.error;
   EXPECT_EQ(vs.cells.size(), m.num_cells());
   for (const int t : vs.cell_types) EXPECT_EQ(t, 10);
-  // Cell data per simplex for file cells (or the other way round) is refused.
+  // Cell data per simplex for file cells (or the other way round) is refused, and so are file
+  // cells without their nodes (a mesh built by hand), for both writers.
   EXPECT_THROW(tetia::write_vtu(path("bad.vtu"), m, {{"q", std::vector<double>(m.num_cells(), 1.0)}}), std::runtime_error);
+  tetia::TetMesh no_nodes = m;
+  no_nodes.origin_nodes.pop_back();
+  EXPECT_NE(error_of([&] { tetia::write_vtu(path("bad.vtu"), no_nodes); }).find("file cell nodes: 24, expected 25"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { tetia::write_msh(path("bad.msh"), no_nodes); }).find("file cell nodes"), std::string::npos);
 
   // .msh: the file cells again, with their tags, read back to the same mesh.
   const fs::path again = path("again.msh");

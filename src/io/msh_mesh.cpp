@@ -131,10 +131,12 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
   }
   auto& cells = ex.mesh.cells;
   std::vector<std::size_t> origin;  // the file cell (its position in `order`) of each cell
-  std::vector<std::int32_t> file_nodes;  // every file cell's node indices, one after the other
+  // Every file cell's node indices, one after the other: kept only where some cell is split.
+  const bool any_split = fc.types.size() > kept.tags.size();  // cells other than simplices were added
+  std::vector<std::int32_t> file_nodes;
   cells.reserve(order.size());
   origin.reserve(order.size());
-  file_nodes.reserve(nv * order.size());
+  if (any_split) file_nodes.reserve(nv * order.size());
   bool split = false;
   for (std::size_t k = 0; k < order.size(); ++k) {
     const std::size_t f = order[k];
@@ -146,7 +148,7 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
         io_fail(name, file.location(fc.where[f]) + ": element " + std::to_string(fc.tags[f]) + ": unknown node tag " +
                           std::to_string(fc.nodes[f][j]));
     }
-    file_nodes.insert(file_nodes.end(), idx, idx + n);
+    if (any_split) file_nodes.insert(file_nodes.end(), idx, idx + n);
     if (n == nv) {  // a simplex
       std::array<std::int32_t, nv> c;
       std::copy_n(idx, nv, c.begin());
