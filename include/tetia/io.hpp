@@ -3,13 +3,14 @@
 // triangular (2D) alike.
 //
 // Contract: the readers accept .msh 2.x and 4.1, ASCII and binary, and never crash on a
-// malformed file. read_mesh keeps the tetrahedra of all physical groups (first-order, 4-node;
-// higher orders by their corners with MeshReadOptions::corner_nodes) and their hexahedra,
-// prisms and pyramids split into tetrahedra (TetMesh::cell_origin), read_tri_mesh the triangles
-// (the same) and quadrilaterals split into triangles, which must lie in a plane z = const (z is
-// dropped); both ignore other elements, counting them, and keep the file's node and element
-// tags. A file's dimension is 3 if it has 3D cells, else 2 if it has 2D cells (mesh_dimension,
-// read_any_mesh); a 3D mesh's boundary triangles and quadrilaterals are just ignored elements. Results are finalized. Errors (missing file,
+// malformed file. read_mesh keeps the tetrahedra of all physical groups and their hexahedra,
+// prisms and pyramids split into tetrahedra (TetMesh::cell_origin; a collapsed cell, with a node
+// twice, by its pieces with volume); read_tri_mesh the triangles and quadrilaterals split into
+// triangles, which must lie in a plane z = const (z is dropped). Cells of order > 1 are read by
+// their corners with MeshReadOptions::corner_nodes. Both ignore other elements, counting them,
+// and keep the file's node and element tags. A file's dimension is 3 if it has 3D cells, else 2
+// if it has 2D cells (mesh_dimension, read_any_mesh); a 3D mesh's boundary triangles and
+// quadrilaterals are just ignored elements. Results are finalized. Errors (missing file,
 // unreadable file, malformed data, no cells, triangles off a plane) throw std::runtime_error
 // with a message starting "tetia: FILE: ", naming the line (ASCII) or byte offset (binary) and
 // the node, element or field where there is one.

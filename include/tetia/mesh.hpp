@@ -4,8 +4,9 @@
 // Contract: a mesh is plain data (nodes and cells as node-index tuples, optionally the tags they
 // had in a file) plus what `finalize` derives from it. `finalize` validates (node indices in
 // range, no repeated node in a cell, finite coordinates, at least one cell, no facet in more
-// than two cells, tags either absent or one per node / cell, positive and distinct), reorients inverted
-// cells (counted), reports zero-measure cells (counted and kept: they intersect nothing),
+// than two cells, tags either absent or one per node / cell, positive and distinct; split
+// file cells' origins in range and in order, their types and node lists consistent), reorients
+// inverted cells (counted), reports zero-measure cells (counted and kept: they intersect nothing),
 // computes cell volumes (areas) and the facet adjacency (faces of tetrahedra, edges of
 // triangles) in linear time. Errors throw std::runtime_error with a message naming the mesh and
 // the cell: "tetia: FILE: cell 17: node index 900 out of range". Both dimensions share one
