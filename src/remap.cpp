@@ -131,10 +131,11 @@ Eigen::VectorXd mixed_mass_times(const typename detail::Dim<Mesh>::Result& s, Ma
   return b;
 }
 
-// The consistent P1 mass matrix; a node in no cell (or only in flat ones) gets a unit diagonal,
-// so that it solves to 0 (its right-hand side is 0) instead of breaking the solver.
+// The consistent P1 mass matrix; for the solver (unit_for_unused) a node in no cell (or only in
+// flat ones) gets a unit diagonal, so that it solves to 0 (its right-hand side is 0) instead of
+// breaking the solver; without, its row is empty (the matrix as it is, tetia::mass_matrix).
 template <class Mesh>
-SpMat mass_matrix(const Mesh& m) {
+SpMat consistent_mass(const Mesh& m, bool unit_for_unused) {
   using Dm = detail::Dim<Mesh>;
   constexpr std::size_t nv = Dm::nv;
   constexpr double factor = (Dm::d + 1) * (Dm::d + 2);
@@ -151,7 +152,7 @@ SpMat mass_matrix(const Mesh& m) {
       for (std::size_t j = 0; j < nv; ++j) trip.emplace_back(v[i], v[j], i == j ? 2.0 * w : w);
     }
   }
-  for (std::size_t n = 0; n < m.num_nodes(); ++n)
+  for (std::size_t n = 0; n < m.num_nodes() && unit_for_unused; ++n)
     if (!used[n]) trip.emplace_back(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n), 1.0);
   SpMat M(static_cast<Eigen::Index>(m.num_nodes()), static_cast<Eigen::Index>(m.num_nodes()));
   M.setFromTriplets(trip.begin(), trip.end());
@@ -249,7 +250,7 @@ std::vector<double> p1(const typename detail::Dim<Mesh>::Result& s, std::span<co
   const MassSource from = check_mass_source<Mesh>(s, "remap_p1");
   check_size(values.size(), s.source->num_nodes(), "remap_p1", "source node");
   const Eigen::VectorXd b = mixed_mass_times<Mesh>(s, from, values);
-  const SpMat Mt = mass_matrix(*s.target);
+  const SpMat Mt = consistent_mass(*s.target, true);
   // Initial guess: the lumped-mass solution.
   Eigen::VectorXd lumped = Mt * Eigen::VectorXd::Ones(Mt.cols());
   Eigen::VectorXd guess(b.size());
@@ -380,6 +381,11 @@ std::vector<double> remap_p1(const Supermesh& s, std::span<const double> values,
 
 void write_mixed_mass_matrix(const Supermesh& s, const std::filesystem::path& file) { write_mixed<TetMesh>(s, file); }
 
+SparseMatrix mixed_mass_matrix(const Supermesh& s) {
+  return SparseMatrix(mixed_mass<TetMesh>(s, check_mass_source<TetMesh>(s, "mixed_mass_matrix")));
+}
+SparseMatrix mass_matrix(const TetMesh& mesh) { return SparseMatrix(consistent_mass(mesh, false)); }
+
 double integral_p0(const TetMesh& mesh, std::span<const double> values) { return int_p0(mesh, values); }
 double integral_p1(const TetMesh& mesh, std::span<const double> values) { return int_p1(mesh, values); }
 
@@ -408,6 +414,11 @@ std::vector<double> remap_p1(const Supermesh2& s, std::span<const double> values
 }
 
 void write_mixed_mass_matrix(const Supermesh2& s, const std::filesystem::path& file) { write_mixed<TriMesh>(s, file); }
+
+SparseMatrix mixed_mass_matrix(const Supermesh2& s) {
+  return SparseMatrix(mixed_mass<TriMesh>(s, check_mass_source<TriMesh>(s, "mixed_mass_matrix")));
+}
+SparseMatrix mass_matrix(const TriMesh& mesh) { return SparseMatrix(consistent_mass(mesh, false)); }
 
 double integral_p0(const TriMesh& mesh, std::span<const double> values) { return int_p0(mesh, values); }
 double integral_p1(const TriMesh& mesh, std::span<const double> values) { return int_p1(mesh, values); }

@@ -180,6 +180,18 @@ double row_sum_error(const Result& s, const Mesh& src, const Mesh& tgt) {
   in.close();
   fs::remove(file);
   const std::vector<double> lumped = lumped_masses(tgt);
+  // The same matrix in memory (tetia::mixed_mass_matrix), and the target's mass matrix, whose
+  // row sums are the lumped masses.
+  const tetia::SparseMatrix mts = tetia::mixed_mass_matrix(s), mt = tetia::mass_matrix(tgt);
+  EXPECT_EQ(mts.rows(), rows);
+  EXPECT_EQ(mts.cols(), cols);
+  EXPECT_EQ(mts.nonZeros(), nnz);
+  EXPECT_EQ(mt.rows(), static_cast<long>(tgt.num_nodes()));
+  for (std::size_t r = 0; r < row.size(); ++r) {
+    const auto k = static_cast<Eigen::Index>(r);
+    EXPECT_NEAR(mts.row(k).sum(), row[r], 1e-15 * lumped[r]) << "node " << r;
+    EXPECT_NEAR(mt.row(k).sum(), lumped[r], 1e-14 * lumped[r]) << "node " << r;
+  }
   double worst = 0.0;
   std::size_t bad = 0, first_bad = 0;
   for (std::size_t r = 0; r < row.size(); ++r) {

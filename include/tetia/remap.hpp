@@ -24,6 +24,8 @@
 // dimensions share one implementation (src/remap.cpp, templates over the dimension).
 #pragma once
 
+#include <Eigen/SparseCore>
+
 #include <filesystem>
 #include <functional>
 #include <span>
@@ -32,6 +34,10 @@
 #include "tetia/supermesh.hpp"
 
 namespace tetia {
+
+/// Sparse matrices handed out in memory: Eigen's, compressed by rows (CSR, as SciPy's
+/// csr_matrix; outerIndexPtr / innerIndexPtr / valuePtr give the three arrays).
+using SparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
 enum class P0Normalization { cell_volume, covered_volume };
 
@@ -52,6 +58,15 @@ std::vector<double> remap_p1(const Supermesh& s, std::span<const double> source_
 /// The mixed mass (coupling) matrix M_ts (rows: target nodes, columns: source nodes) in Matrix
 /// Market coordinate format. Needs keep_mixed_mass or keep_polyhedra, as remap_p1.
 void write_mixed_mass_matrix(const Supermesh& s, const std::filesystem::path& file);
+
+/// The same M_ts in memory (what remap_p1 applies and write_mixed_mass_matrix writes: the same
+/// sums in the same order), and a mesh's consistent P1 mass matrix M_t (entry (i, j): the
+/// integral of basis function i times basis function j; the row of a node in no cell is empty).
+/// remap_p1 solves M_t u_t = M_ts u_s; each row sum of M_ts is the target basis function's
+/// integral over the overlap, so it equals M_t's row sum (the lumped mass) where the source
+/// covers that basis function's support.
+SparseMatrix mixed_mass_matrix(const Supermesh& s);
+SparseMatrix mass_matrix(const TetMesh& mesh);
 
 /// Integrals of a piecewise constant (per cell) and a continuous piecewise linear (per node) field.
 double integral_p0(const TetMesh& mesh, std::span<const double> cell_values);
@@ -81,6 +96,9 @@ std::vector<double> remap_p1(const Supermesh2& s, std::span<const double> source
                              P1RemapReport* report = nullptr);
 
 void write_mixed_mass_matrix(const Supermesh2& s, const std::filesystem::path& file);
+
+SparseMatrix mixed_mass_matrix(const Supermesh2& s);
+SparseMatrix mass_matrix(const TriMesh& mesh);
 
 double integral_p0(const TriMesh& mesh, std::span<const double> cell_values);
 double integral_p1(const TriMesh& mesh, std::span<const double> node_values);
