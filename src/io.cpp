@@ -42,6 +42,7 @@
 #include "io/mesh_assembly.hpp"
 #include "io/msh_mesh.hpp"
 #include "io/msh_reader.hpp"
+#include "mesh/check_file_cells.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
 #define TETIA_ASAN 1
@@ -171,22 +172,7 @@ void check_mesh(const std::string& name, const Mesh& mesh) {
       if (idx < 0 || idx >= n)
         fail(name, "cell " + std::to_string(c) + ": node index " + std::to_string(idx) + " out of range");
   // Split file cells (written as the file's cells): what finalize checks, for meshes built by hand.
-  if (mesh.cell_origin.empty()) return;
-  if (mesh.cell_origin.size() != mesh.cells.size() || mesh.origin_types.size() != mesh.origin_tags.size())
-    fail(name, "cell origins do not match the cells and file cells");
-  for (const auto f : mesh.cell_origin)
-    if (f < 0 || static_cast<std::size_t>(f) >= mesh.origin_tags.size()) fail(name, "cell origin out of range");
-  std::size_t expected = 0;
-  for (const auto t : mesh.origin_types) {
-    const int k = file_cell_nodes(t);
-    if (k == 0 || (detail::Dim<Mesh>::d == 3) != (t >= 4))
-      fail(name, "file cell type " + std::to_string(t) + " is not a cell of this dimension");
-    expected += static_cast<std::size_t>(k);
-  }
-  if (mesh.origin_nodes.size() != expected)
-    fail(name, "file cell nodes: " + std::to_string(mesh.origin_nodes.size()) + ", expected " + std::to_string(expected));
-  for (const auto idx : mesh.origin_nodes)
-    if (idx < 0 || idx >= n) fail(name, "file cell node index " + std::to_string(idx) + " out of range");
+  if (const std::string problem = detail::file_cells_problem(mesh); !problem.empty()) fail(name, problem);
 }
 
 std::string xml_escape(const std::string& s) {

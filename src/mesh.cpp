@@ -10,6 +10,7 @@
 
 #include "compensated_sum.hpp"
 #include "dimension.hpp"
+#include "mesh/check_file_cells.hpp"
 
 namespace tetia {
 
@@ -56,31 +57,8 @@ void finalize_mesh(Mesh& m, const std::string& name) {
   };
   check_tags(m.node_tags, m.nodes.size(), "node");
   check_tags(m.cell_tags, m.cells.size(), "cell");
-  if (!m.cell_origin.empty() || !m.origin_tags.empty() || !m.origin_types.empty()) {
-    if (m.cell_origin.size() != m.cells.size() || m.origin_types.size() != m.origin_tags.size() || !m.cell_tags.empty())
-      fail(name, "cell origins: " + std::to_string(m.cell_origin.size()) + " for " + std::to_string(m.cells.size()) +
-                     " cells, " + std::to_string(m.origin_tags.size()) + " file cell tags and " +
-                     std::to_string(m.origin_types.size()) + " types (cell tags must be empty then)");
-    check_tags(m.origin_tags, m.origin_types.size(), "file cell");
-    for (std::size_t c = 0; c < m.cells.size(); ++c)
-      if (m.cell_origin[c] < 0 || static_cast<std::size_t>(m.cell_origin[c]) >= m.origin_tags.size() ||
-          (c > 0 && m.cell_origin[c] < m.cell_origin[c - 1]))
-        fail(name, "cell " + std::to_string(c) + ": file cell " + std::to_string(m.cell_origin[c]) +
-                       " out of range or out of order (the cells of a file cell follow one another, in file cell order)");
-    // The file cells' nodes, for writing them back: Gmsh's corner count for each type.
-    std::size_t expected = 0;
-    for (std::size_t f = 0; f < m.origin_types.size(); ++f) {
-      const int t = m.origin_types[f];
-      const bool ok = D::d == 3 ? (t >= 4 && t <= 7) : (t == 2 || t == 3);
-      if (!ok) fail(name, "file cell " + std::to_string(m.origin_tags[f]) + ": element type " + std::to_string(t) +
-                              " is not a cell of this dimension");
-      expected += static_cast<std::size_t>(file_cell_nodes(t));
-    }
-    if (m.origin_nodes.size() != expected)
-      fail(name, "file cell nodes: " + std::to_string(m.origin_nodes.size()) + ", expected " + std::to_string(expected));
-    for (const auto idx : m.origin_nodes)
-      if (idx < 0 || idx >= n) fail(name, "file cell node index " + std::to_string(idx) + " out of range");
-  }
+  if (const std::string problem = detail::file_cells_problem(m); !problem.empty()) fail(name, problem);
+  check_tags(m.origin_tags, m.origin_types.size(), "file cell");
   auto& measures = D::measures(m);
   measures.assign(m.cells.size(), 0.0);
   m.reoriented_cells = m.flat_cells = 0;

@@ -29,10 +29,12 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
   };
   const MshCells& kept = Dm::d == 3 ? with_higher(file.tetrahedra, file.higher_tetrahedra, 0)
                                     : with_higher(file.triangles, file.higher_triangles, 0);
-  const MshCells& hexahedra = with_higher(file.hexahedra, file.higher_hexahedra, 1);
-  const MshCells& prisms = with_higher(file.prisms, file.higher_prisms, 2);
-  const MshCells& pyramids = with_higher(file.pyramids, file.higher_pyramids, 3);
-  const MshCells& quadrangles = with_higher(file.quadrangles, file.higher_quadrangles, 4);
+  // (Only this dimension's: a 3D file's boundary quadrilaterals are not copied.)
+  const bool volume = Dm::d == 3;
+  const MshCells& hexahedra = volume ? with_higher(file.hexahedra, file.higher_hexahedra, 1) : file.hexahedra;
+  const MshCells& prisms = volume ? with_higher(file.prisms, file.higher_prisms, 2) : file.prisms;
+  const MshCells& pyramids = volume ? with_higher(file.pyramids, file.higher_pyramids, 3) : file.pyramids;
+  const MshCells& quadrangles = volume ? file.quadrangles : with_higher(file.quadrangles, file.higher_quadrangles, 4);
   const MshCells& other = Dm::d == 3 ? file.triangles : file.tetrahedra;
   Extracted<Mesh> ex;
   const auto lines = [&](const std::vector<std::size_t>& where) {
@@ -89,7 +91,7 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
   } else {
     add_cells(quadrangles, 3, 4);
   }
-  const auto nodes_of_type = [](int type) { return std::size_t(type == 4 ? 4 : type == 2 ? 3 : msh_nodes_per_element(type)); };
+  const auto nodes_of_type = [](int type) { return static_cast<std::size_t>(file_cell_nodes(type)); };
   {
     TagIndex by_tag;  // only for the order; cell_index is built on the cells kept
     by_tag.build(
