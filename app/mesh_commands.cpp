@@ -392,6 +392,13 @@ int guarded(Body&& body) {
 
 // The cells as the kernels see them: a file's hexahedron is 6 tetrahedra ("source_cells",
 // "target_cells" and "pairs" count the file's cells).
+// A command's meshes outlive every supermesh built from them (all within the command), so the
+// supermesh borrows them (a shared pointer that owns nothing) instead of copying them.
+template <class Mesh>
+std::shared_ptr<const Mesh> borrow(const Mesh& mesh) {
+  return std::shared_ptr<const Mesh>(std::shared_ptr<const Mesh>(), &mesh);
+}
+
 template <class Mesh>
 std::string simplices_json(const Mesh& source, const Mesh& target) {
   return std::string("\"source_simplices\": ") + std::to_string(source.num_cells()) +
@@ -405,7 +412,7 @@ int supermesh_command(const SupermeshCommand& cmd, const Mesh& source, const Mes
   options.search = parse_search(cmd.search);
   options.threads = cmd.threads;
   options.progress = intersection_progress(source.num_cells());
-  const auto s = supermesh(source, target, options);
+  const auto s = supermesh(borrow(source), borrow(target), options);
   const auto pairs = file_cell_pairs(s);
   if (!cmd.output.empty()) {
     progress("writing " + cmd.output);
@@ -451,7 +458,7 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
   // P1 (and its --matrix) needs each piece's local mixed mass matrix, not the polyhedron itself.
   options.keep_mixed_mass = cmd.order == 1;
   options.progress = intersection_progress(source.num_cells());
-  const auto s = supermesh(source, target, options);
+  const auto s = supermesh(borrow(source), borrow(target), options);
   const auto pairs = file_cell_pairs(s);
   progress(cmd.order == 0 ? "remap" : "solve");
   if (!cmd.matrix.empty()) {
@@ -564,7 +571,7 @@ void demo_case(const std::string& name, const Mesh& a, const Mesh& b, bool same_
     SupermeshOptions options;
     options.threads = cmd.threads;
     options.keep_mixed_mass = true;  // P1: the local mixed mass matrices (no shapes are written)
-    const auto s = supermesh(src, tgt, options);
+    const auto s = supermesh(borrow(src), borrow(tgt), options);
     // For the same domain the overlap is the mesh volume; for different domains it is not known
     // exactly (curved, discretized), so no error is printed there.
     const double vol_err = std::abs(K::total(s) - K::total(tgt)) / K::total(tgt);

@@ -100,6 +100,7 @@
 #include <iterator>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <type_traits>
 #include <utility>
 #include <variant>
@@ -777,13 +778,17 @@ void morton_order(const Mesh& mesh, std::vector<std::int32_t>& order, std::vecto
 }
 
 template <class Mesh>
-typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target, const SupermeshOptions& options) {
+typename detail::Dim<Mesh>::Result build(std::shared_ptr<const Mesh> source_mesh, std::shared_ptr<const Mesh> target_mesh,
+                                         const SupermeshOptions& options) {
   using Dm = detail::Dim<Mesh>;
   using TreeT = Tree<Dm::d>;
+  if (!source_mesh || !target_mesh) throw std::invalid_argument("tetia: supermesh: a mesh is null");
   const auto t0 = std::chrono::steady_clock::now();
   typename Dm::Result out;
-  out.source = &source;
-  out.target = &target;
+  out.source = std::move(source_mesh);
+  out.target = std::move(target_mesh);
+  const Mesh& source = *out.source;
+  const Mesh& target = *out.target;
   const std::size_t ns = source.num_cells(), nt = target.num_cells();
   if (ns == 0 || nt == 0) return out;
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
@@ -963,12 +968,22 @@ typename detail::Dim<Mesh>::Result build(const Mesh& source, const Mesh& target,
 
 }  // namespace
 
+Supermesh supermesh(std::shared_ptr<const TetMesh> source, std::shared_ptr<const TetMesh> target,
+                    const SupermeshOptions& options) {
+  return build(std::move(source), std::move(target), options);
+}
+
 Supermesh supermesh(const TetMesh& source, const TetMesh& target, const SupermeshOptions& options) {
-  return build(source, target, options);
+  return build(std::make_shared<const TetMesh>(source), std::make_shared<const TetMesh>(target), options);
+}
+
+Supermesh2 supermesh(std::shared_ptr<const TriMesh> source, std::shared_ptr<const TriMesh> target,
+                     const SupermeshOptions& options) {
+  return build(std::move(source), std::move(target), options);
 }
 
 Supermesh2 supermesh(const TriMesh& source, const TriMesh& target, const SupermeshOptions& options) {
-  return build(source, target, options);
+  return build(std::make_shared<const TriMesh>(source), std::make_shared<const TriMesh>(target), options);
 }
 
 }  // namespace tetia

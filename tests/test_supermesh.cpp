@@ -13,12 +13,14 @@
 #include <cstring>
 #include <functional>
 #include <iterator>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "tetia/exact.hpp"
 #include "tetia/mesh.hpp"
+#include "tetia/remap.hpp"
 #include "tetia/supermesh.hpp"
 #include "tetia/tet_intersection.hpp"
 #include "support/supermesh_checks.hpp"
@@ -283,6 +285,33 @@ TEST(Supermesh, PolyhedraKeptMatchPieces) {
   EXPECT_TRUE(bitwise_equal(a.pieces, c.pieces));
 }
 
+// A supermesh cannot outlive its meshes: given shared pointers it shares them, given references
+// it copies them; either way its meshes are alive and unchanged after the caller's are gone.
+TEST(Supermesh, KeepsItsMeshes) {
+  Supermesh shared, copied;
+  double volume = 0.0;
+  {
+    auto a = std::make_shared<const TetMesh>(kuhn({2, 2, 2}));
+    auto b = std::make_shared<const TetMesh>(kuhn({3, 3, 3}, {0.1, 0.2, 0.3}, {0.6, 0.6, 0.6}));
+    shared = tetia::supermesh(a, b);
+    EXPECT_EQ(shared.source.get(), a.get());  // the same mesh, not a copy
+    EXPECT_EQ(a.use_count(), 2);
+    const TetMesh c = *a, d = *b;
+    copied = tetia::supermesh(c, d);
+    EXPECT_NE(copied.source.get(), &c);
+    volume = shared.intersection_volume();
+  }
+  ASSERT_TRUE(shared.source && shared.target && copied.source && copied.target);
+  EXPECT_EQ(shared.source.use_count(), 1);  // the caller's pointers are gone; the meshes are not
+  EXPECT_EQ(shared.target->num_cells(), 6u * 27u);
+  EXPECT_EQ(copied.source->nodes, shared.source->nodes);
+  EXPECT_EQ(copied.target->cells, shared.target->cells);
+  EXPECT_GT(volume, 0.0);
+  EXPECT_EQ(tetia::remap_p0(shared, std::vector<double>(shared.source->num_cells(), 1.0)),
+            tetia::remap_p0(copied, std::vector<double>(copied.source->num_cells(), 1.0)));
+  EXPECT_THROW(tetia::supermesh(std::shared_ptr<const TetMesh>(), shared.target), std::invalid_argument);
+}
+
 TEST(Supermesh, EmptyAndDisjoint) {
   const TetMesh a = kuhn({2, 2, 2});
   const TetMesh b = kuhn({2, 2, 2}, {5, 0, 0});
@@ -290,8 +319,9 @@ TEST(Supermesh, EmptyAndDisjoint) {
     const Supermesh sm = run(a, b, search, 2);
     EXPECT_TRUE(sm.pieces.empty());
     EXPECT_EQ(sm.intersection_volume(), 0.0);
-    EXPECT_EQ(sm.source, &a);
-    EXPECT_EQ(sm.target, &b);
+    ASSERT_TRUE(sm.source && sm.target);  // copies of a and b (the supermesh keeps its meshes)
+    EXPECT_EQ(sm.source->nodes, a.nodes);
+    EXPECT_EQ(sm.target->nodes, b.nodes);
   }
   // Touching along a face plane only.
   const TetMesh c = kuhn({2, 2, 2}, {2, 0, 0});

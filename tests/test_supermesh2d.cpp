@@ -283,8 +283,9 @@ TEST(Supermesh2D, EmptyDisjointAndTouching) {
     const Supermesh2 sm = run(a, b, search, 2);
     EXPECT_TRUE(sm.pieces.empty());
     EXPECT_EQ(sm.intersection_area(), 0.0);
-    EXPECT_EQ(sm.source, &a);
-    EXPECT_EQ(sm.target, &b);
+    ASSERT_TRUE(sm.source && sm.target);  // copies of a and b (the supermesh keeps its meshes)
+    EXPECT_EQ(sm.source->nodes, a.nodes);
+    EXPECT_EQ(sm.target->nodes, b.nodes);
   }
   // Touching along an edge line, and at a corner only.
   EXPECT_TRUE(run(a, grid({2, 2}, {2, 0}), CandidateSearch::front, 1).pieces.empty());

@@ -26,6 +26,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "tetia/mesh.hpp"
@@ -54,8 +55,9 @@ struct SupermeshPiece {
 };
 
 struct Supermesh {
-  const TetMesh* source = nullptr;
-  const TetMesh* target = nullptr;
+  /// The meshes it was built from, shared: a supermesh keeps them alive (supermesh() given
+  /// references copies them; given shared pointers it shares them).
+  std::shared_ptr<const TetMesh> source, target;
   std::vector<SupermeshPiece> pieces;  ///< sorted by (target, source)
   std::vector<Polyhedron> polyhedra;   ///< pieces[k]'s polyhedron (U = source cell, V = target cell), if kept
   /// pieces[k]'s local mixed mass matrix, row-major: [4 * i + j] = integral over the piece of
@@ -66,6 +68,14 @@ struct Supermesh {
   double intersection_volume() const;
 };
 
+/// The supermesh shares the meshes (no copy): they live as long as it does, and must not be
+/// changed meanwhile (they are const through these pointers; whoever holds a non-const one is
+/// trusted). Null pointers throw std::invalid_argument.
+Supermesh supermesh(std::shared_ptr<const TetMesh> source, std::shared_ptr<const TetMesh> target,
+                    const SupermeshOptions& options = {});
+/// The same for meshes given by reference: they are copied into the supermesh (about 72 B a
+/// cell and 24 B a node in 3D), so that it cannot outlive them; pass shared pointers to avoid
+/// the copy.
 Supermesh supermesh(const TetMesh& source, const TetMesh& target, const SupermeshOptions& options = {});
 
 /// One piece of a 2D supermesh: a (source, target) pair of triangles whose intersection has
@@ -78,8 +88,7 @@ struct SupermeshPiece2 {
 
 /// The supermesh of two triangular meshes.
 struct Supermesh2 {
-  const TriMesh* source = nullptr;
-  const TriMesh* target = nullptr;
+  std::shared_ptr<const TriMesh> source, target;  ///< as Supermesh's
   std::vector<SupermeshPiece2> pieces;  ///< sorted by (target, source)
   std::vector<Polygon> polygons;        ///< pieces[k]'s polygon (A = source cell, B = target cell), if kept
   /// pieces[k]'s local mixed mass matrix, row-major: [3 * i + j] = integral over the piece of
@@ -90,6 +99,8 @@ struct Supermesh2 {
   double intersection_area() const;
 };
 
+Supermesh2 supermesh(std::shared_ptr<const TriMesh> source, std::shared_ptr<const TriMesh> target,
+                     const SupermeshOptions& options = {});
 Supermesh2 supermesh(const TriMesh& source, const TriMesh& target, const SupermeshOptions& options = {});
 
 /// The supermesh per pair of file cells (the cells of the files the meshes came from: a split
