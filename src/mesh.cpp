@@ -33,6 +33,24 @@ namespace {
   throw std::runtime_error("tetia: " + name + ": " + what);
 }
 
+// A cell's signed volume (area) for any finite coordinates: where the determinant's products
+// overflow (coordinates near the top of double's range), the same determinant of the cell scaled
+// by a power of two (exact), scaled back. Infinite only when the measure itself is beyond
+// double's range.
+template <class D>
+double signed_measure_of(const typename D::Cell& cell) {
+  const double sv = D::signed_measure(cell);
+  if (std::isfinite(sv)) return sv;
+  double big = 0.0;
+  for (const auto& p : cell)
+    for (int k = 0; k < D::d; ++k) big = std::max(big, std::abs(D::coord(p, k)));
+  int e = 0;
+  std::frexp(big, &e);
+  typename D::Cell scaled = cell;
+  for (auto& p : scaled) p = std::ldexp(1.0, -e) * p;
+  return std::ldexp(D::signed_measure(scaled), D::d * e);
+}
+
 // One implementation for both dimensions: the checks, the orientation and the adjacency do not
 // depend on it (facet k of a cell is the one without its vertex k in either).
 template <class Mesh>
@@ -70,7 +88,10 @@ void finalize_mesh(Mesh& m, const std::string& name) {
     for (std::size_t a = 0; a < nv; ++a)
       for (std::size_t b = a + 1; b < nv; ++b)
         if (v[a] == v[b]) fail(name, "cell " + std::to_string(c) + ": repeated node");
-    const double sv = D::signed_measure(m.cell(c));
+    const double sv = signed_measure_of<D>(m.cell(c));
+    if (!std::isfinite(sv))
+      fail(name, "cell " + std::to_string(c) + ": its " + (D::d == 3 ? "volume" : "area") +
+                     " is beyond the range of double precision (coordinates too large)");
     if (sv < 0.0) {
       std::swap(v[nv - 2], v[nv - 1]);  // an odd permutation: the orientation flips
       ++m.reoriented_cells;

@@ -239,6 +239,23 @@ TEST(MeshFromArrays, TrianglesAndQuadrilateralsIn2DAnd3DPoints) {
   EXPECT_NE(message_of([&] { (void)make_tri_mesh(xyz, 3, blocks); }).find("plane"), std::string::npos);
 }
 
+// Coordinates near the top of double's range: a measure that double holds is computed although
+// the determinant's products overflow (found by fuzz/fuzz_mesh_from_arrays: it was infinite);
+// one beyond the range is an error naming the cell.
+TEST(MeshFromArrays, MeasuresNearTheTopOfTheRange) {
+  const std::vector<std::int64_t> tet = {0, 1, 2, 3}, tri = {0, 1, 2};
+  const CellBlock tets[] = {{4, tet}}, tris[] = {{2, tri}};
+  const double a = 1e103;  // volume a^3 / 6 = 1.67e308 < DBL_MAX, a^3 is not
+  const TetMesh m = make_tet_mesh(std::vector<double>{0, 0, 0, a, 0, 0, 0, a, 0, 0, 0, a}, tets);
+  EXPECT_NEAR(m.volumes[0], 1e308 / 6.0 * 10.0, 1e-15 * 1.7e308);
+  const double b = 1.5e154;  // area b^2 / 2 = 1.125e308, b^2 overflows
+  const TriMesh t = make_tri_mesh(std::vector<double>{0, 0, b, 0, 0, b}, 2, tris);
+  EXPECT_NEAR(t.areas[0], 1.125e308, 1e-15 * 1.2e308);
+  const double c = 1e104;
+  EXPECT_EQ(message_of([&] { (void)make_tet_mesh(std::vector<double>{0, 0, 0, c, 0, 0, 0, c, 0, 0, 0, c}, tets, "big"); }),
+            "tetia: big: cell 0: its volume is beyond the range of double precision (coordinates too large)");
+}
+
 TEST(MeshFromArrays, BadArraysNameTheCell) {
   const Grid g = grid(2, false);
   std::vector<std::int64_t> hexes = g.hexahedra;
