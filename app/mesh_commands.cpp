@@ -390,8 +390,6 @@ int guarded(Body&& body) {
   }
 }
 
-// The cells as the kernels see them: a file's hexahedron is 6 tetrahedra ("source_cells",
-// "target_cells" and "pairs" count the file's cells).
 // A command's meshes outlive every supermesh built from them (all within the command), so the
 // supermesh borrows them (a shared pointer that owns nothing) instead of copying them.
 template <class Mesh>
@@ -399,6 +397,8 @@ std::shared_ptr<const Mesh> borrow(const Mesh& mesh) {
   return std::shared_ptr<const Mesh>(std::shared_ptr<const Mesh>(), &mesh);
 }
 
+// The cells as the kernels see them: a file's hexahedron is 6 tetrahedra ("source_cells",
+// "target_cells" and "pairs" count the file's cells).
 template <class Mesh>
 std::string simplices_json(const Mesh& source, const Mesh& target) {
   return std::string("\"source_simplices\": ") + std::to_string(source.num_cells()) +

@@ -73,9 +73,9 @@ struct Supermesh {
 /// trusted). Null pointers throw std::invalid_argument.
 Supermesh supermesh(std::shared_ptr<const TetMesh> source, std::shared_ptr<const TetMesh> target,
                     const SupermeshOptions& options = {});
-/// The same for meshes given by reference: they are copied into the supermesh (about 72 B a
-/// cell and 24 B a node in 3D), so that it cannot outlive them; pass shared pointers to avoid
-/// the copy.
+/// The same for meshes given by reference: they are copied into the supermesh (about 48 B a
+/// cell and 32 B a node in 3D, with tags), so that it cannot outlive them; pass shared pointers
+/// to avoid the copy.
 Supermesh supermesh(const TetMesh& source, const TetMesh& target, const SupermeshOptions& options = {});
 
 /// One piece of a 2D supermesh: a (source, target) pair of triangles whose intersection has
