@@ -15,7 +15,8 @@
 // "tetia: NAME: ..." naming the cell (its index among the file cells) or the array: a type of
 // the other dimension or unknown, a node index out of range, a block whose size is not a
 // multiple of its type's node count, no cells, a cell whose repeated nodes leave it no volume,
-// non-finite coordinates; and what finalize checks.
+// non-finite coordinates; and, as std::runtime_error, what finalize checks and the plane check
+// of read_tri_mesh (the same code, src/io/mesh_assembly.hpp).
 #pragma once
 
 #include <cstdint>

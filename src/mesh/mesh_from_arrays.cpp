@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "../dimension.hpp"
+#include "../io/mesh_assembly.hpp"
 #include "split_cells.hpp"
 
 namespace tetia {
@@ -140,24 +141,10 @@ TriMesh make_tri_mesh(std::span<const double> coordinates, int coordinate_dim, s
   std::vector<Vec2> nodes(coordinates.size() / d);
   for (std::size_t i = 0; i < nodes.size(); ++i) nodes[i] = {coordinates[d * i], coordinates[d * i + 1]};
   TriMesh m = assemble<TriMesh>(std::move(nodes), blocks, name);
-  if (coordinate_dim == 3) {
-    // The plane z = const of read_tri_mesh (src/io/mesh_assembly.hpp), over the nodes in cells.
-    double zlo = 0.0, zhi = 0.0, size = 0.0;
-    bool first = true;
-    Vec2 lo{}, hi{};
-    for (const auto& c : m.cells)
-      for (const auto v : c) {
-        const auto i = static_cast<std::size_t>(v);
-        const double z = coordinates[3 * i + 2];
-        if (first) zlo = zhi = z, lo = hi = m.nodes[i], first = false;
-        zlo = std::min(zlo, z), zhi = std::max(zhi, z);
-        lo = {std::min(lo.x, m.nodes[i].x), std::min(lo.y, m.nodes[i].y)};
-        hi = {std::max(hi.x, m.nodes[i].x), std::max(hi.y, m.nodes[i].y)};
-      }
-    size = std::max({std::abs(zlo), std::abs(zhi), hi.x - lo.x, hi.y - lo.y});
-    if (zhi - zlo > 1e-12 * size)
-      fail(name, "the triangles do not lie in a plane z = const (z from " + std::to_string(zlo) + " to " +
-                     std::to_string(zhi) + "); 2D meshes must be in the xy plane");
+  if (coordinate_dim == 3) {  // the plane z = const, as read_tri_mesh checks it
+    std::vector<double> z(m.nodes.size());
+    for (std::size_t i = 0; i < z.size(); ++i) z[i] = coordinates[3 * i + 2];
+    detail::check_planar(name, m.nodes, z, m.cells);
   }
   return m;
 }
