@@ -4,6 +4,8 @@
 #                  the executable and the benchmarks with: its kernel is faster);
 #  2. build-gcc/   the same with g++, Debian's default compiler, which a plain `cmake` uses;
 #  3. build-asan/  RelWithDebInfo with AddressSanitizer + UndefinedBehaviorSanitizer (g++);
+# after 1., scripts/test-consumer.sh installs build/ and builds and runs a program against the
+# installed package (CMake and pkg-config, g++ and clang++);
 # then 4. build-scalar/: the 3D kernel's tests once more with its portable scalar code (the
 # kernel uses SSE2 where the compiler has it, as on every x86-64; -U__SSE2__ takes the other
 # branch, so both are tested), and 5. build-fuzz/: the kernels' libFuzzer targets (clang++,
@@ -28,6 +30,9 @@ cmake --build build -j"$jobs"
 
 step "tests (build)"
 ctest --test-dir build --output-on-failure -j"$jobs"
+
+step "consumer of the installed package (g++ and clang++)"
+bash scripts/test-consumer.sh build
 
 step "build-gcc (g++, Release, -DTETIA_WERROR=ON)"
 cmake -S . -B build-gcc -DCMAKE_CXX_COMPILER=g++ -DCMAKE_BUILD_TYPE=Release -DTETIA_WERROR=ON \

@@ -584,6 +584,13 @@ const GmshModule& gmsh_module() {
   static const GmshModule* const module = [] {
     std::vector<std::string> paths;
     if (const char* env = std::getenv("TETIA_GMSH_MODULE"); env != nullptr && *env != '\0') paths.emplace_back(env);
+#ifdef TETIA_GMSH_MODULE_RELATIVE
+    // Next to the shared library itself (the object holding this variable), wherever it is
+    // installed: <its directory>/tetia/libtetia_gmsh.so.
+    static const char anchor = 0;
+    if (Dl_info info{}; ::dladdr(&anchor, &info) != 0 && info.dli_fname != nullptr && *info.dli_fname != '\0')
+      paths.push_back((std::filesystem::path(info.dli_fname).parent_path() / TETIA_GMSH_MODULE_RELATIVE).string());
+#endif
 #ifdef TETIA_GMSH_MODULE_BUILD
     paths.emplace_back(TETIA_GMSH_MODULE_BUILD);
 #endif

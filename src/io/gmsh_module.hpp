@@ -5,8 +5,10 @@
 // loads it (libgmsh's start-up alone costs about 0.1 s). generate_box and the other generators
 // of tetia/io.hpp, and Gmsh's reader for the tests (gmsh_reader.hpp), call through
 // gmsh_module(), which loads the module once (thread-safe) from, in order: the path in the
-// environment variable TETIA_GMSH_MODULE, the build tree's module (TETIA_GMSH_MODULE_BUILD,
-// set by CMake), the installed one (TETIA_GMSH_MODULE_INSTALL). If none loads it throws
+// environment variable TETIA_GMSH_MODULE; for a shared libtetia, tetia/<module> next to
+// libtetia.so itself (TETIA_GMSH_MODULE_RELATIVE, so a moved installation finds its own); the
+// build tree's module (TETIA_GMSH_MODULE_BUILD, set by CMake); the installed one
+// (TETIA_GMSH_MODULE_INSTALL). If none loads it throws
 // std::runtime_error("tetia: generating meshes needs the Gmsh module ...") naming the paths
 // tried and dlopen's reason. The module is built by the same build as the library (the same
 // compiler and standard library), so the table passes C++ types and exceptions as they are;
