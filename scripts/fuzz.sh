@@ -27,7 +27,7 @@ artifacts="$build/artifacts"
 targets=(fuzz_tet_kernel fuzz_tri_kernel fuzz_msh_reader fuzz_mesh_from_arrays)
 
 cmake -S . -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DTETIA_BUILD_FUZZERS=ON -DTETIA_BUILD_TESTS=OFF -DTETIA_BUILD_BENCH=OFF
+  -DTETIA_BUILD_FUZZERS=ON -DTETIA_BUILD_TESTS=OFF -DTETIA_BUILD_BENCH=OFF -DTETIA_BUILD_PYTHON=OFF
 cmake --build "$build" -j"$jobs" --target "${targets[@]}" fuzz_replay
 
 mkdir -p "$artifacts"

@@ -29,6 +29,13 @@ packages=(
   python3-matplotlib
   python3-numpy
   python3-vtk9      # VTK's own reader checks the VTU files in the tests (tests/vtu_dump.py)
+  # the Python package (python/): bindings, and what it works with and is tested with
+  python3-dev       # headers for extension modules
+  pybind11-dev      # the bindings
+  python3-scipy     # sparse matrices (Remap.matrix, ...); Delaunay meshes in the tests
+  python3-meshio    # mesh files of every format (tetia.read_mesh, Mesh.from_meshio)
+  python3-h5py      # meshio's XDMF files
+  python3-pytest    # the package's tests (python/tests/)
 )
 
 names=("${packages[@]}")

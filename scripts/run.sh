@@ -7,7 +7,13 @@
 #  2. `tetia demo`: two non-matching Gmsh meshes of a box and a ball against a box, their
 #     supermesh, P0 and P1 remap of sin(x) cos(y) exp(z) both ways, a table, VTU files in
 #     tetia-demo/; then `tetia demo --dim 2` (rectangle, disk and annulus meshes) into
-#     tetia-demo-2d/.
+#     tetia-demo-2d/;
+#  3. installs tetia (`cmake --install build`: the library, headers, CMake and pkg-config files,
+#     the CLI, and the Python package into Debian's /usr/local/lib/python3.X/dist-packages, so
+#     that /usr/bin/python3 imports it from anywhere; with sudo when not root; TETIA_PREFIX
+#     chooses another prefix), then runs the Python examples with the installed package from
+#     another directory: examples/python/mortar_coupling.py, and examples/python/remap_meshio.py,
+#     which writes tetia-demo/remap_slice.png.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -17,7 +23,7 @@ jobs="${TETIA_JOBS:-2}"
 
 bash scripts/install-deps.sh
 cmake -S . -B build -DCMAKE_CXX_COMPILER="${TETIA_CXX:-clang++}" -DCMAKE_BUILD_TYPE=Release -DTETIA_WERROR=ON
-cmake --build build --target tetia_cli -j"$jobs"
+cmake --build build --target tetia_cli tetia_python -j"$jobs"
 
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
@@ -61,3 +67,27 @@ echo "tetia demo (meshes, supermesh, conservative remap; VTU files in tetia-demo
 echo
 echo "tetia demo --dim 2 (2D meshes; VTU files in tetia-demo-2d/):"
 ./build/tetia demo --dim 2 -o tetia-demo-2d
+
+echo
+prefix="${TETIA_PREFIX:-/usr/local}"
+install=(cmake --install build --prefix "$prefix")
+if [[ $(id -u) -ne 0 && ! -w "$prefix" ]] && command -v sudo > /dev/null 2>&1; then install=(sudo "${install[@]}"); fi
+echo "installing tetia into $prefix: ${install[*]}"
+"${install[@]}" > "$tmp/install.log"
+python_dir="$(sed -n 's/^TETIA_PYTHON_INSTALL_DIR:[A-Z]*=//p' build/CMakeCache.txt)"
+[[ "$python_dir" = /* ]] || python_dir="$prefix/$python_dir"
+python="$(sed -n 's/^Python_EXECUTABLE:[A-Z]*=//p' build/CMakeCache.txt)"
+# Only a prefix whose site packages the interpreter does not search needs PYTHONPATH.
+if ! "$python" -c "import sys; sys.exit(0 if '$python_dir' in sys.path else 1)"; then
+  export PYTHONPATH="$python_dir${PYTHONPATH:+:$PYTHONPATH}"
+fi
+repo="$PWD"
+(cd "$tmp" && "$python" -c "import tetia; print('python: import tetia', tetia.__version__, 'from', tetia.__file__)")
+
+echo
+echo "examples/python/mortar_coupling.py (mortar coupling matrix between non-matching 2D meshes):"
+(cd "$tmp" && "$python" "$repo/examples/python/mortar_coupling.py")
+
+echo
+echo "examples/python/remap_meshio.py (P0 remap between meshio files; slice in tetia-demo/remap_slice.png):"
+(cd "$tmp" && "$python" "$repo/examples/python/remap_meshio.py" -o "$repo/tetia-demo/remap_slice.png")

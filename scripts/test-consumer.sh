@@ -5,9 +5,10 @@
 #    -DCMAKE_PREFIX_PATH, and runs it;
 #  - builds tests/consumer/main.cpp with one compiler command from
 #    `pkg-config --cflags --libs tetia-reference` and runs it;
-# and finally runs the installed CLI's `tetia demo`, which generates meshes with Gmsh, checking
-# that the library loaded the installed Gmsh module (not the build folder's). Stops at the first
-# failure; removes its temporary folder.
+# then runs the installed CLI's `tetia demo`, which generates meshes with Gmsh, checking that the
+# library loaded the installed Gmsh module (not the build folder's); and, if the build has the
+# Python package, imports the installed one from elsewhere and checks that it uses the installed
+# libtetia. Stops at the first failure; removes its temporary folder.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -68,5 +69,32 @@ if [[ "$module" != "$(realpath "$prefix")"/* ]]; then
   fi
   # A static libtetia cannot know where it is installed: the configured prefix or the build's.
   echo "   (static library: the module of the configured prefix or of the build folder)"
+fi
+# The Python package, if this build has it: imported from another directory, with nothing but
+# PYTHONPATH pointing into the prefix; it must load the prefix's libtetia, not the build's.
+python_dir="$(sed -n 's/^TETIA_PYTHON_INSTALL_DIR:[A-Z]*=//p' "$build/CMakeCache.txt")"
+python="$(sed -n 's/^Python_EXECUTABLE:[A-Z]*=//p' "$build/CMakeCache.txt")"
+if [[ -n "$python_dir" && -n "$python" ]]; then
+  [[ "$python_dir" = /* ]] || python_dir="$prefix/$python_dir"
+  echo "-- installed Python package: PYTHONPATH=$python_dir $python -c 'import tetia' (from $tmp)"
+  (cd "$tmp" && PYTHONPATH="$python_dir" "$python" - "$prefix" <<'PY'
+import os
+import sys
+
+import numpy as np
+
+import tetia
+
+prefix = os.path.realpath(sys.argv[1])
+assert os.path.realpath(tetia.__file__).startswith(prefix + os.sep), tetia.__file__
+libraries = {line.split()[-1] for line in open("/proc/self/maps") if "libtetia" in line}
+assert libraries and all(os.path.realpath(p).startswith(prefix + os.sep) for p in libraries), libraries
+U = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
+assert tetia.intersection_volume(U, U) == 1 / 6
+m = tetia.Mesh(np.vstack([U, [[1, 1, 1]]]), [[0, 1, 2, 3], [1, 2, 3, 4]])
+assert abs(tetia.Remap(m, m)(np.array([1.0, 2.0])) - [1.0, 2.0]).max() < 1e-15
+print("   tetia", tetia.__version__, "from", os.path.dirname(tetia.__file__), "with", ", ".join(sorted(libraries)))
+PY
+  )
 fi
 echo "-- consumer tests passed"

@@ -1,0 +1,141 @@
+// python/src/remap.cpp -- the operator behind tetia.Remap: tetia::Remap or tetia::Remap2, built
+// once (the supermesh and the matrices, without the GIL), applied to many fields.
+//
+// apply() is the C++ BasicRemap::apply, bit for bit, and const: two Python threads may apply
+// one operator at once (the GIL is released while it runs). The matrices leave as CSR triples
+// (data, indices, indptr, shape) that tetia/remap.py makes SciPy matrices of, so the extension
+// does not depend on SciPy.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "arrays.hpp"
+#include "bindings.hpp"
+#include "options.hpp"
+#include "tetia/remap_operator.hpp"
+
+namespace tetia::python {
+
+namespace {
+
+struct RemapHandle {
+  std::variant<std::shared_ptr<const Remap>, std::shared_ptr<const Remap2>> remap;
+  template <class F>
+  auto visit(F f) const {
+    return std::visit([&](const auto& r) { return f(*r); }, remap);
+  }
+};
+
+RemapHandle make_remap(const MeshHandle& source, const MeshHandle& target, int order, const std::string& normalization,
+                       const std::string& search, std::optional<int> threads) {
+  check_same_dimension(source, target, "Remap");
+  if (order != 0 && order != 1) value_error("tetia: Remap: order must be 0 or 1, not " + std::to_string(order));
+  RemapOptions options;
+  options.order = order;
+  if (normalization == "cell_volume")
+    options.normalization = P0Normalization::cell_volume;
+  else if (normalization == "covered_volume")
+    options.normalization = P0Normalization::covered_volume;
+  else
+    value_error("tetia: Remap: normalization must be \"cell_volume\" or \"covered_volume\", not \"" + normalization +
+                "\"");
+  options.supermesh = supermesh_options(search, threads);
+  RemapHandle h;
+  py::gil_scoped_release release;
+  if (source.dim() == 3)
+    h.remap = std::make_shared<const Remap>(std::get<0>(source.mesh), std::get<0>(target.mesh), options);
+  else
+    h.remap = std::make_shared<const Remap2>(std::get<1>(source.mesh), std::get<1>(target.mesh), options);
+  return h;
+}
+
+py::tuple csr(const SparseMatrix& a) {
+  SparseMatrix m = a;
+  m.makeCompressed();
+  const auto nnz = static_cast<std::size_t>(m.nonZeros());
+  std::vector<double> data(m.valuePtr(), m.valuePtr() + nnz);
+  std::vector<std::int64_t> indices(m.innerIndexPtr(), m.innerIndexPtr() + nnz);
+  std::vector<std::int64_t> indptr(m.outerIndexPtr(), m.outerIndexPtr() + m.outerSize() + 1);
+  return py::make_tuple(to_array(std::move(data)), to_array(std::move(indices)), to_array(std::move(indptr)),
+                        py::make_tuple(m.rows(), m.cols()));
+}
+
+/// The field as (values, components), checked against the operator's columns.
+std::pair<Doubles, int> field_of(const RemapHandle& h, const py::object& u) {
+  Doubles a = as_doubles(u, "field");
+  const auto cols = static_cast<py::ssize_t>(h.visit([](const auto& r) { return r.cols(); }));
+  const int order = h.visit([](const auto& r) { return r.order(); });
+  const char* per = order == 0 ? "cell" : "node";
+  if (a.ndim() != 1 && a.ndim() != 2)
+    value_error("tetia: Remap: the field must have shape (n,) or (n, k), got " + shape_text(a));
+  if (a.shape(0) != cols)
+    value_error("tetia: Remap: the field has " + std::to_string(a.shape(0)) + " rows, but the source has " +
+                std::to_string(cols) + " " + per + "s (order " + std::to_string(order) + ": one value per source " +
+                per + ")");
+  if (a.ndim() == 2 && a.shape(1) < 1) value_error("tetia: Remap: the field has no components, shape " + shape_text(a));
+  check_finite(a, "field");
+  return {a, a.ndim() == 1 ? 1 : static_cast<int>(a.shape(1))};
+}
+
+py::object apply(const RemapHandle& h, const py::object& u, bool with_report) {
+  const auto field = field_of(h, u);
+  const Doubles& a = field.first;
+  const int components = field.second;
+  const bool vector = a.ndim() == 2;
+  std::vector<double> out;
+  P1RemapReport report;
+  {
+    py::gil_scoped_release release;
+    out = h.visit([&](const auto& r) {
+      return r.apply(std::span<const double>(a.data(), static_cast<std::size_t>(a.size())), components, &report);
+    });
+  }
+  const auto rows = static_cast<py::ssize_t>(out.size() / static_cast<std::size_t>(components));
+  py::array_t<double> result = vector ? to_array(std::move(out), {rows, components}) : to_array(std::move(out));
+  if (!with_report) return py::object(std::move(result));
+  py::dict r;
+  r["iterations"] = report.iterations;
+  r["residual"] = report.residual;
+  return py::make_tuple(result, r);
+}
+
+}  // namespace
+
+void bind_remap(py::module_& m) {
+  py::class_<RemapHandle>(m, "RemapHandle", "tetia::Remap (3D) or tetia::Remap2 (2D), held by tetia.Remap.")
+      .def(py::init(&make_remap), py::arg("source"), py::arg("target"), py::arg("order") = 0,
+           py::arg("normalization") = "cell_volume", py::arg("search") = "front", py::arg("threads") = py::none())
+      .def_property_readonly("order", [](const RemapHandle& h) { return h.visit([](const auto& r) { return r.order(); }); })
+      .def_property_readonly("rows", [](const RemapHandle& h) { return h.visit([](const auto& r) { return r.rows(); }); })
+      .def_property_readonly("cols", [](const RemapHandle& h) { return h.visit([](const auto& r) { return r.cols(); }); })
+      .def_property_readonly("intersection_volume",
+                             [](const RemapHandle& h) {
+                               return h.visit([](const auto& r) {
+                                 if constexpr (std::is_same_v<std::decay_t<decltype(r)>, Remap>)
+                                   return r.supermesh().intersection_volume();
+                                 else
+                                   return r.supermesh().intersection_area();
+                               });
+                             })
+      .def("apply", &apply, py::arg("field"), py::arg("report") = false)
+      .def("matrix",
+           [](const RemapHandle& h) {
+             try {
+               return csr(h.visit([](const auto& r) { return r.matrix(); }));
+             } catch (const std::logic_error& e) {
+               value_error(e.what());
+             }
+           })
+      .def("mixed_mass", [](const RemapHandle& h) { return csr(h.visit([](const auto& r) { return r.mixed_mass(); })); })
+      .def("target_mass", [](const RemapHandle& h) { return csr(h.visit([](const auto& r) { return r.target_mass(); })); })
+      .def("coverage", [](const RemapHandle& h) { return to_array(h.visit([](const auto& r) { return r.coverage(); })); });
+}
+
+}  // namespace tetia::python

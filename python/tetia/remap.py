@@ -1,0 +1,90 @@
+"""tetia.Remap: a conservative remap between two meshes, built once and applied to many fields."""
+
+import functools
+
+import numpy as np
+
+from . import _tetia
+from .mesh import as_mesh
+
+
+def _csr(triple):
+    import scipy.sparse
+
+    data, indices, indptr, shape = triple
+    return scipy.sparse.csr_matrix((data, indices, indptr), shape=shape)
+
+
+class Remap:
+    """Remap(source, target, order=0, normalization="cell_volume", search="front", threads=None)
+
+    order 0 (P0): cell averages in and out, one value per cell given (a hexahedron is one cell).
+      u_T = sum_S |S cap T| u_S / d_T, with d_T the target cell's volume (normalization
+      "cell_volume": the field counts as 0 outside the source) or its covered volume
+      ("covered_volume": 0 where nothing covers it). Conservative: the integrals over the
+      overlap agree.
+    order 1 (P1): nodal values in and out, the Galerkin (L2) projection M_t u_t = M_ts u_s
+      (conjugate gradients on the consistent mass matrix M_t).
+
+    r(u) remaps u of shape (cols,) or (cols, k) (k components, each on its own) to (rows,) or
+    (rows, k): bit for bit what tetia::Remap::apply returns. Safe to call from several threads
+    at once (the GIL is released while it runs).
+    r.matrix       the operator of order 0 as a scipy.sparse.csr_matrix (r.matrix @ u == r(u) to
+                   rounding); order 1 raises ValueError (M_t^-1 M_ts is dense: use r(u), or
+                   mixed_mass and target_mass)
+    r.mixed_mass   M (rows target, columns source): the pair volumes |S cap T| (order 0) or the
+                   mixed mass matrix M_ts (order 1), CSR
+    r.target_mass  diag(d_T) (order 0) or the target's consistent mass matrix M_t (order 1), CSR
+    r.coverage     per target cell, the fraction of its volume the source covers, (rows,)
+    """
+
+    def __init__(self, source, target, order=0, normalization="cell_volume", search="front", threads=None):
+        self.source, self.target = as_mesh(source, "source"), as_mesh(target, "target")
+        if not isinstance(order, (int, np.integer)) or isinstance(order, bool):
+            raise ValueError(f"tetia: Remap: order must be 0 or 1, not {order!r}")
+        self._handle = _tetia.RemapHandle(self.source._handle, self.target._handle, int(order), normalization,
+                                          search, threads)
+
+    @property
+    def order(self):
+        return self._handle.order
+
+    @property
+    def shape(self):
+        """(rows, cols): values per component of a result (target cells or nodes) and of a field
+        (source cells or nodes)."""
+        return (self._handle.rows, self._handle.cols)
+
+    @property
+    def intersection_volume(self):
+        """The volume (area) of the overlap of the two meshes, as tetia.supermesh gives it."""
+        return self._handle.intersection_volume
+
+    def __call__(self, field):
+        return self._handle.apply(field, False)
+
+    def apply(self, field, report=False):
+        """r(field); with report=True, (result, {"iterations", "residual"}) of the last
+        component's conjugate gradient solve (order 1; zeros for order 0)."""
+        return self._handle.apply(field, bool(report))
+
+    @functools.cached_property
+    def matrix(self):
+        return _csr(self._handle.matrix())
+
+    @functools.cached_property
+    def mixed_mass(self):
+        return _csr(self._handle.mixed_mass())
+
+    @functools.cached_property
+    def target_mass(self):
+        return _csr(self._handle.target_mass())
+
+    @functools.cached_property
+    def coverage(self):
+        c = self._handle.coverage()
+        c.setflags(write=False)
+        return c
+
+    def __repr__(self):
+        return f"<tetia.Remap order {self.order}: {self.shape[1]} -> {self.shape[0]} values per component>"
