@@ -36,6 +36,8 @@ packages=(
   python3-meshio    # mesh files of every format (tetia.read_mesh, Mesh.from_meshio)
   python3-h5py      # meshio's XDMF files
   python3-pytest    # the package's tests (python/tests/)
+  libopenmpi-dev    # MPI: the distributed supermesh and remap (tetia_mpi, tests/mpi/)
+  openmpi-bin       # mpiexec for the MPI tests
 )
 
 names=("${packages[@]}")

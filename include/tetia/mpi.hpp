@@ -1,0 +1,82 @@
+// tetia/mpi.hpp -- the supermesh and P0 remap of two tetrahedral meshes distributed over the
+// ranks of an MPI communicator, partitioned in any way (library tetia_mpi, CMake target
+// tetia::mpi; built where MPI is found).
+//
+// Contract. Every rank of `comm` calls with its own part of the source and of the target mesh
+// (a MeshPart: any subset of each mesh's cells, possibly none, each cell with its global id;
+// the parts of one mesh are disjoint and together the whole mesh). The call is collective.
+// - supermesh: every piece (source cell, target cell, volume, first moments) whose target cell
+//   the rank holds, sorted by (target id, source id). As a set over the ranks, these are the
+//   pieces one process computes for the whole meshes (tetia::supermesh): each piece is computed
+//   once, by the same kernel on the same coordinates in the same vertex order, so it is equal
+//   bit for bit, whatever the partitions and the number of ranks.
+// - remap_p0: for each target cell of the rank, in the rank's order, the P0 remap of a source
+//   field (`components` values per source cell, given by each rank for its own source cells):
+//   sum over pieces of volume * u_S, in source id order, divided by the target cell's volume
+//   (cell_volume) or by its covered volume (covered_volume; 0 where nothing covers it). Where
+//   the ids are the serial mesh's cell indices this is tetia::remap_p0's arithmetic, bit for bit.
+// Communication (src/mpi/distributed_supermesh.cpp has the argument that it misses no piece):
+// each rank sends every other rank a few bounding boxes of its target cells (at most
+// DistributedOptions::boxes_per_rank, each over cells consecutive along a Morton curve), then
+// each source cell (its id, its four vertices and, for remap_p0, its field values) only to the
+// ranks one of whose boxes meets the cell's bounding box.
+// Errors (a MeshPart whose arrays do not agree in size, a node index out of range, non-finite
+// coordinates, a field of the wrong size) throw std::invalid_argument on the rank that has
+// them; a collective call then stops on every rank together: every rank throws, the others
+// with std::runtime_error("tetia: mpi: rank R: <its message>") for the lowest failing rank R.
+#pragma once
+
+#include <mpi.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "tetia/geometry.hpp"
+#include "tetia/remap.hpp"
+
+namespace tetia::mpi {
+
+/// One rank's part of a distributed tetrahedral mesh, as plain arrays (no copy is kept).
+struct MeshPart {
+  std::span<const double> coordinates;      ///< 3 per local node, x y z
+  std::span<const std::int32_t> cells;      ///< 4 local node indices per local cell
+  std::span<const std::int64_t> cell_ids;   ///< the global id of each local cell (unique, >= 0)
+};
+
+struct DistributedOptions {
+  /// Boxes each rank publishes for its target cells (cells cut into this many runs along a
+  /// Morton curve through their centroids, one box each): more boxes send fewer donor cells
+  /// to ranks whose region is not convex, at P * boxes_per_rank boxes kept on every rank.
+  int boxes_per_rank = 64;
+  int threads = 0;  ///< OpenMP threads of the local supermesh (0: OpenMP's default)
+};
+
+struct DistributedPiece {
+  std::int64_t source = -1, target = -1;  ///< global cell ids
+  double volume = 0.0;
+  Vec3 first{};  ///< first moments (integral of the position)
+};
+
+struct DistributedSupermesh {
+  std::vector<DistributedPiece> pieces;  ///< this rank's target cells' pieces, by (target, source)
+  // What this rank exchanged, for the benchmarks (bytes of payload, not MPI's own).
+  std::size_t boxes_received = 0;        ///< target boxes of all the ranks (its own included)
+  std::size_t cells_sent = 0;            ///< source cells sent (to other ranks; copies counted)
+  std::size_t cells_received = 0;        ///< source cells received (its own included)
+  std::size_t bytes_sent = 0;            ///< boxes and cells sent to other ranks
+  double seconds = 0.0;                  ///< the whole call on this rank
+};
+
+DistributedSupermesh supermesh(const MeshPart& source, const MeshPart& target, MPI_Comm comm,
+                               const DistributedOptions& options = {});
+
+/// P0 remap for this rank's target cells: `source_values` holds components values per local
+/// source cell (row by row), the result components values per local target cell.
+std::vector<double> remap_p0(const MeshPart& source, std::span<const double> source_values, const MeshPart& target,
+                             MPI_Comm comm, int components = 1,
+                             P0Normalization normalization = P0Normalization::cell_volume,
+                             const DistributedOptions& options = {}, DistributedSupermesh* pieces = nullptr);
+
+}  // namespace tetia::mpi
