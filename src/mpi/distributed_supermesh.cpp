@@ -48,6 +48,7 @@
 #include <boost/geometry/index/rtree.hpp>
 
 #include "../morton.hpp"
+#include "exchange.hpp"
 #include "tetia/mesh.hpp"
 #include "tetia/supermesh.hpp"
 
@@ -63,20 +64,10 @@ using BoostBox = bg::model::box<BoostPoint>;
 constexpr int kVertexDoubles = 12;
 constexpr int kBoxDoubles = 6;
 
-int rank_of(MPI_Comm comm) {
-  int r = 0;
-  MPI_Comm_rank(comm, &r);
-  return r;
-}
+}  // namespace
 
-int size_of(MPI_Comm comm) {
-  int n = 0;
-  MPI_Comm_size(comm, &n);
-  return n;
-}
+namespace detail {
 
-/// The same outcome on every rank: if any rank's `error` is set, every rank throws (the lowest
-/// failing rank its own std::invalid_argument, the others a std::runtime_error naming it).
 void agree_on_errors(MPI_Comm comm, const std::string& error) {
   const int rank = rank_of(comm), size = size_of(comm);
   const int mine = error.empty() ? size : rank;
@@ -91,7 +82,7 @@ void agree_on_errors(MPI_Comm comm, const std::string& error) {
   throw std::runtime_error("tetia: mpi: rank " + std::to_string(lowest) + ": " + message);
 }
 
-void check_part(const MeshPart& p, const char* what) {
+void check_part(const MeshPart& p, const char* what, bool need_node_ids) {
   const std::string name = std::string("tetia: mpi: ") + what + " part: ";
   if (p.coordinates.size() % 3 != 0)
     throw std::invalid_argument(name + "coordinates: " + std::to_string(p.coordinates.size()) +
@@ -102,6 +93,12 @@ void check_part(const MeshPart& p, const char* what) {
     throw std::invalid_argument(name + std::to_string(p.cells.size() / 4) + " cells but " +
                                 std::to_string(p.cell_ids.size()) + " cell ids");
   const std::size_t nodes = p.coordinates.size() / 3;
+  if ((need_node_ids || !p.node_ids.empty()) && p.node_ids.size() != nodes)
+    throw std::invalid_argument(name + std::to_string(nodes) + " nodes but " + std::to_string(p.node_ids.size()) +
+                                " node ids");
+  for (std::size_t n = 0; n < p.node_ids.size(); ++n)
+    if (p.node_ids[n] < 0)
+      throw std::invalid_argument(name + "node " + std::to_string(n) + ": negative id " + std::to_string(p.node_ids[n]));
   for (std::size_t i = 0; i < p.coordinates.size(); ++i)
     if (!std::isfinite(p.coordinates[i]))
       throw std::invalid_argument(name + "node " + std::to_string(i / 3) + ": coordinate " + std::to_string(i % 3) +
@@ -117,6 +114,10 @@ void check_part(const MeshPart& p, const char* what) {
     }
   }
 }
+
+}  // namespace detail
+
+namespace {
 
 /// The part's cell c's four vertices, x y z each, in the cell's order.
 void vertices_of(const MeshPart& p, std::size_t c, double* out) {
@@ -163,7 +164,7 @@ std::vector<Box> target_boxes(const MeshPart& target, int count) {
       const double extent = all[static_cast<std::size_t>(3 + d)] - all[static_cast<std::size_t>(d)];
       const double unit = extent > 0.0 ? (centre - all[static_cast<std::size_t>(d)]) / extent : 0.0;
       const auto q = static_cast<std::uint64_t>(std::clamp(unit, 0.0, 1.0) * double((1u << 21) - 1));
-      key |= detail::spread_bits<3>(q) << (2 - d);
+      key |= tetia::detail::spread_bits<3>(q) << (2 - d);
     }
     code[c] = key;
   }
@@ -176,63 +177,34 @@ std::vector<Box> target_boxes(const MeshPart& target, int count) {
   return boxes;
 }
 
-/// MPI counts are int: a message this large is refused with a clear error rather than wrapped.
-int count_of(std::size_t n, const char* what) {
-  if (n > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-    throw std::length_error(std::string("tetia: mpi: ") + what + ": " + std::to_string(n) +
-                            " values in one message, more than MPI's int counts allow");
-  return static_cast<int>(n);
-}
-
-/// Displacements of the counts (exclusive prefix sums).
-std::vector<int> displacements(const std::vector<int>& counts, const char* what) {
-  std::vector<int> d(counts.size(), 0);
-  std::size_t sum = 0;
-  for (std::size_t i = 0; i < counts.size(); ++i) {
-    d[i] = count_of(sum, what);
-    sum += static_cast<std::size_t>(counts[i]);
-  }
-  count_of(sum, what);
-  return d;
-}
-
 }  // namespace
 
-namespace detail_mpi {
+namespace detail {
 
-/// What the exchange and the local supermesh leave on a rank: the received source cells (ids,
-/// values) and the pieces with local indices (source: received cell, target: local cell).
-struct Exchanged {
-  std::vector<std::int64_t> source_ids;
-  std::vector<double> source_values;  ///< components per received cell
-  std::shared_ptr<const TetMesh> target;  ///< the rank's target cells, finalized (null if none)
-  std::vector<SupermeshPiece> pieces;    ///< sorted by (target id, source id)
-  DistributedSupermesh stats;
-};
-
-Exchanged exchange_and_intersect(const MeshPart& source, std::span<const double> values, int components,
-                                 const MeshPart& target, MPI_Comm comm, const DistributedOptions& options) {
+Exchanged exchange_and_intersect(const MeshPart& source, std::span<const double> values, int doubles,
+                                 std::span<const std::int64_t> extra, int ids, const MeshPart& target, MPI_Comm comm,
+                                 const DistributedOptions& options, bool keep_mixed_mass, bool need_node_ids) {
   const double t0 = MPI_Wtime();
-  const int size = size_of(comm);
-  const auto ranks = static_cast<std::size_t>(size);
+  const int self = rank_of(comm);
+  const auto ranks = static_cast<std::size_t>(size_of(comm));
+  const auto per_value = static_cast<std::size_t>(doubles), per_extra = static_cast<std::size_t>(ids);
   Exchanged out;
 
-  // The parts, checked and the target mesh built before anything is sent.
+  // The parts, checked, and the target mesh built, before anything is sent.
   std::string error;
   try {
-    check_part(source, "source");
-    check_part(target, "target");
-    if (values.size() != source.cell_ids.size() * static_cast<std::size_t>(components))
-      throw std::invalid_argument("tetia: mpi: remap_p0: " + std::to_string(values.size()) + " source values for " +
-                                  std::to_string(source.cell_ids.size()) + " source cells of " +
-                                  std::to_string(components) + " components");
+    check_part(source, "source", need_node_ids);
+    check_part(target, "target", need_node_ids);
+    if (values.size() != source.cell_ids.size() * per_value || extra.size() != source.cell_ids.size() * per_extra)
+      throw std::invalid_argument("tetia: mpi: " + std::to_string(values.size()) + " source values for " +
+                                  std::to_string(source.cell_ids.size()) + " source cells");
     if (!target.cell_ids.empty()) {
       TetMesh t;
-      for (std::size_t i = 0; i < target.coordinates.size(); i += 3)
-        t.nodes.push_back({target.coordinates[i], target.coordinates[i + 1], target.coordinates[i + 2]});
+      for (std::size_t n = 0; n < target.coordinates.size(); n += 3)
+        t.nodes.push_back({target.coordinates[n], target.coordinates[n + 1], target.coordinates[n + 2]});
       for (std::size_t c = 0; c < target.cell_ids.size(); ++c)
         t.cells.push_back({target.cells[4 * c], target.cells[4 * c + 1], target.cells[4 * c + 2], target.cells[4 * c + 3]});
-      finalize(t, "tetia: mpi: rank " + std::to_string(rank_of(comm)) + ": target part");
+      finalize(t, "tetia: mpi: rank " + std::to_string(self) + ": target part");
       out.target = std::make_shared<const TetMesh>(std::move(t));
     }
   } catch (const std::exception& e) {
@@ -242,29 +214,25 @@ Exchanged exchange_and_intersect(const MeshPart& source, std::span<const double>
 
   // 1. Target boxes from every rank.
   const std::vector<Box> mine = target_boxes(target, options.boxes_per_rank);
-  const int my_count = static_cast<int>(mine.size());
-  std::vector<int> box_counts(ranks);
-  MPI_Allgather(&my_count, 1, MPI_INT, box_counts.data(), 1, MPI_INT, comm);
-  std::vector<int> box_doubles(ranks);
-  for (std::size_t q = 0; q < ranks; ++q) box_doubles[q] = box_counts[q] * kBoxDoubles;
-  const std::vector<int> box_offsets = displacements(box_doubles, "target boxes");
-  std::vector<double> all_boxes(static_cast<std::size_t>(box_offsets.back() + box_doubles.back()));
-  MPI_Allgatherv(mine.empty() ? nullptr : mine.front().data(), my_count * kBoxDoubles, MPI_DOUBLE, all_boxes.data(),
-                 box_doubles.data(), box_offsets.data(), MPI_DOUBLE, comm);
-  out.stats.boxes_received = all_boxes.size() / kBoxDoubles;
-  out.stats.bytes_sent += static_cast<std::size_t>(my_count) * kBoxDoubles * sizeof(double) * (ranks - 1);
-
-  std::vector<std::pair<BoostBox, int>> entries;
+  std::vector<std::vector<double>> box_send(ranks);
   for (std::size_t q = 0; q < ranks; ++q)
-    for (int b = 0; b < box_counts[q]; ++b) {
+    for (const Box& b : mine) box_send[q].insert(box_send[q].end(), b.begin(), b.end());
+  std::vector<int> box_from;
+  const std::vector<double> all_boxes = all_to_all(comm, box_send, "target boxes", &box_from);
+  out.stats.boxes_received = all_boxes.size() / kBoxDoubles;
+  out.stats.bytes_sent += mine.size() * kBoxDoubles * sizeof(double) * (ranks - 1);
+  std::vector<std::pair<BoostBox, int>> entries;
+  for (std::size_t q = 0, offset = 0; q < ranks; ++q)
+    for (int b = 0; b < box_from[q] / kBoxDoubles; ++b, offset += kBoxDoubles) {
       Box box;
-      std::copy_n(all_boxes.data() + box_offsets[q] + kBoxDoubles * b, kBoxDoubles, box.begin());
+      std::copy_n(all_boxes.data() + offset, kBoxDoubles, box.begin());
       entries.emplace_back(boost_box(box), static_cast<int>(q));
     }
   const bgi::rtree<std::pair<BoostBox, int>, bgi::quadratic<16>> tree(entries.begin(), entries.end());
 
-  // 2. Each source cell to the ranks whose boxes its box meets, once each.
-  const std::size_t per_cell = kVertexDoubles + static_cast<std::size_t>(components);
+  // 2. Each source cell to the ranks whose boxes its box meets, once each: its id, then its
+  // vertices and values, then its extra ids.
+  const std::size_t per_cell = kVertexDoubles + per_value;
   std::vector<std::vector<std::int64_t>> ids_to(ranks);
   std::vector<std::vector<double>> data_to(ranks);
   std::vector<std::size_t> last_cell(ranks, std::numeric_limits<std::size_t>::max());
@@ -276,47 +244,41 @@ Exchanged exchange_and_intersect(const MeshPart& source, std::span<const double>
     extend(box, v.data());
     hits.clear();
     tree.query(bgi::intersects(boost_box(box)), std::back_inserter(hits));
-    for (const auto& [b, q] : hits) {
-      const auto r = static_cast<std::size_t>(q);
+    for (const auto& hit : hits) {
+      const auto r = static_cast<std::size_t>(hit.second);
       if (last_cell[r] == c) continue;
       last_cell[r] = c;
       ids_to[r].push_back(source.cell_ids[c]);
+      ids_to[r].insert(ids_to[r].end(), extra.begin() + static_cast<std::ptrdiff_t>(c * per_extra),
+                       extra.begin() + static_cast<std::ptrdiff_t>((c + 1) * per_extra));
       data_to[r].insert(data_to[r].end(), v.begin(), v.end());
-      data_to[r].insert(data_to[r].end(), values.begin() + static_cast<std::ptrdiff_t>(c * static_cast<std::size_t>(components)),
-                        values.begin() + static_cast<std::ptrdiff_t>((c + 1) * static_cast<std::size_t>(components)));
+      data_to[r].insert(data_to[r].end(), values.begin() + static_cast<std::ptrdiff_t>(c * per_value),
+                        values.begin() + static_cast<std::ptrdiff_t>((c + 1) * per_value));
     }
   }
-  const int self = rank_of(comm);
-  std::vector<int> send_cells(ranks), recv_cells(ranks);
-  for (std::size_t q = 0; q < ranks; ++q) send_cells[q] = count_of(ids_to[q].size(), "source cells");
-  MPI_Alltoall(send_cells.data(), 1, MPI_INT, recv_cells.data(), 1, MPI_INT, comm);
-  std::vector<int> send_data(ranks), recv_data(ranks);
-  std::vector<std::int64_t> send_ids;
-  std::vector<double> send_values;
-  for (std::size_t q = 0; q < ranks; ++q) {
-    send_data[q] = count_of(data_to[q].size(), "source cells");
-    recv_data[q] = count_of(static_cast<std::size_t>(recv_cells[q]) * per_cell, "source cells");
-    send_ids.insert(send_ids.end(), ids_to[q].begin(), ids_to[q].end());
-    send_values.insert(send_values.end(), data_to[q].begin(), data_to[q].end());
+  for (std::size_t q = 0; q < ranks; ++q)
     if (static_cast<int>(q) != self) {
-      out.stats.cells_sent += ids_to[q].size();
+      out.stats.cells_sent += data_to[q].size() / per_cell;
       out.stats.bytes_sent += ids_to[q].size() * sizeof(std::int64_t) + data_to[q].size() * sizeof(double);
     }
-  }
+  const std::vector<std::int64_t> received_ids = all_to_all(comm, ids_to, "source cells");
   ids_to.clear();
+  const std::vector<double> received_data = all_to_all(comm, data_to, "source cells");
   data_to.clear();
-  const std::vector<int> send_cell_offsets = displacements(send_cells, "source cells");
-  const std::vector<int> recv_cell_offsets = displacements(recv_cells, "source cells");
-  const std::vector<int> send_data_offsets = displacements(send_data, "source cells");
-  const std::vector<int> recv_data_offsets = displacements(recv_data, "source cells");
-  const std::size_t received = static_cast<std::size_t>(recv_cell_offsets.back() + recv_cells.back());
-  out.source_ids.resize(received);
-  std::vector<double> received_data(received * per_cell);
-  MPI_Alltoallv(send_ids.data(), send_cells.data(), send_cell_offsets.data(), MPI_INT64_T, out.source_ids.data(),
-                recv_cells.data(), recv_cell_offsets.data(), MPI_INT64_T, comm);
-  MPI_Alltoallv(send_values.data(), send_data.data(), send_data_offsets.data(), MPI_DOUBLE, received_data.data(),
-                recv_data.data(), recv_data_offsets.data(), MPI_DOUBLE, comm);
+  const std::size_t received = received_data.size() / per_cell;
   out.stats.cells_received = received;
+  out.source_ids.reserve(received);
+  out.source_extra.reserve(received * per_extra);
+  for (std::size_t c = 0; c < received; ++c) {
+    out.source_ids.push_back(received_ids[c * (1 + per_extra)]);
+    out.source_extra.insert(out.source_extra.end(), received_ids.begin() + static_cast<std::ptrdiff_t>(c * (1 + per_extra) + 1),
+                            received_ids.begin() + static_cast<std::ptrdiff_t>((c + 1) * (1 + per_extra)));
+  }
+  out.source_values.reserve(received * per_value);
+  for (std::size_t c = 0; c < received; ++c) {
+    const double* p = received_data.data() + c * per_cell;
+    out.source_values.insert(out.source_values.end(), p + kVertexDoubles, p + per_cell);
+  }
 
   // 3. The received cells (a soup: four nodes of their own each) against the rank's targets.
   error.clear();
@@ -325,30 +287,29 @@ Exchanged exchange_and_intersect(const MeshPart& source, std::span<const double>
       TetMesh soup;
       soup.nodes.reserve(4 * received);
       soup.cells.reserve(received);
-      out.source_values.reserve(received * static_cast<std::size_t>(components));
       for (std::size_t c = 0; c < received; ++c) {
         const double* p = received_data.data() + c * per_cell;
         for (int k = 0; k < 4; ++k) soup.nodes.push_back({p[3 * k], p[3 * k + 1], p[3 * k + 2]});
         const auto base = static_cast<std::int32_t>(4 * c);
         soup.cells.push_back({base, base + 1, base + 2, base + 3});
-        out.source_values.insert(out.source_values.end(), p + kVertexDoubles, p + per_cell);
       }
       finalize(soup, "tetia: mpi: rank " + std::to_string(self) + ": received source cells");
       SupermeshOptions so;
       so.search = CandidateSearch::rtree;
       so.threads = options.threads;
+      so.keep_mixed_mass = keep_mixed_mass;
       Supermesh s = tetia::supermesh(std::make_shared<const TetMesh>(std::move(soup)), out.target, so);
-      out.pieces = std::move(s.pieces);
-      std::sort(out.pieces.begin(), out.pieces.end(), [&](const SupermeshPiece& a, const SupermeshPiece& b) {
-        const std::int64_t ta = target.cell_ids[static_cast<std::size_t>(a.target)];
-        const std::int64_t tb = target.cell_ids[static_cast<std::size_t>(b.target)];
-        if (ta != tb) return ta < tb;
-        return out.source_ids[static_cast<std::size_t>(a.source)] < out.source_ids[static_cast<std::size_t>(b.source)];
-      });
-    } else {
-      for (std::size_t c = 0; c < received; ++c) {
-        const double* p = received_data.data() + c * per_cell;
-        out.source_values.insert(out.source_values.end(), p + kVertexDoubles, p + per_cell);
+      std::vector<std::size_t> order(s.pieces.size());
+      std::iota(order.begin(), order.end(), std::size_t{0});
+      const auto key = [&](std::size_t k) {
+        return std::pair{target.cell_ids[static_cast<std::size_t>(s.pieces[k].target)],
+                         out.source_ids[static_cast<std::size_t>(s.pieces[k].source)]};
+      };
+      std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+      out.pieces.reserve(order.size());
+      for (const std::size_t k : order) {
+        out.pieces.push_back(s.pieces[k]);
+        if (keep_mixed_mass) out.local_mass.push_back(s.local_mass[k]);
       }
     }
   } catch (const std::exception& e) {
@@ -359,16 +320,23 @@ Exchanged exchange_and_intersect(const MeshPart& source, std::span<const double>
   return out;
 }
 
-}  // namespace detail_mpi
+/// The pieces with global ids.
+std::vector<DistributedPiece> global_pieces(const Exchanged& x, const MeshPart& target) {
+  std::vector<DistributedPiece> out;
+  out.reserve(x.pieces.size());
+  for (const SupermeshPiece& p : x.pieces)
+    out.push_back({x.source_ids[static_cast<std::size_t>(p.source)], target.cell_ids[static_cast<std::size_t>(p.target)],
+                   p.volume, p.first});
+  return out;
+}
+
+}  // namespace detail
 
 DistributedSupermesh supermesh(const MeshPart& source, const MeshPart& target, MPI_Comm comm,
                                const DistributedOptions& options) {
-  detail_mpi::Exchanged x = detail_mpi::exchange_and_intersect(source, {}, 0, target, comm, options);
+  detail::Exchanged x = detail::exchange_and_intersect(source, {}, 0, {}, 0, target, comm, options, false, false);
   DistributedSupermesh out = std::move(x.stats);
-  out.pieces.reserve(x.pieces.size());
-  for (const SupermeshPiece& p : x.pieces)
-    out.pieces.push_back({x.source_ids[static_cast<std::size_t>(p.source)],
-                          target.cell_ids[static_cast<std::size_t>(p.target)], p.volume, p.first});
+  out.pieces = detail::global_pieces(x, target);
   return out;
 }
 
@@ -376,8 +344,8 @@ std::vector<double> remap_p0(const MeshPart& source, std::span<const double> sou
                              MPI_Comm comm, int components, P0Normalization normalization,
                              const DistributedOptions& options, DistributedSupermesh* pieces) {
   if (components < 1) throw std::invalid_argument("tetia: mpi: remap_p0: components must be at least 1");
-  detail_mpi::Exchanged x =
-      detail_mpi::exchange_and_intersect(source, source_values, components, target, comm, options);
+  detail::Exchanged x = detail::exchange_and_intersect(source, source_values, components, {}, 0, target, comm,
+                                                       options, false, false);
   const auto k = static_cast<std::size_t>(components);
   std::vector<double> out(target.cell_ids.size() * k, 0.0);
   // As tetia::remap_p0: per target cell, the pieces in source order, then one division.
@@ -399,10 +367,7 @@ std::vector<double> remap_p0(const MeshPart& source, std::span<const double> sou
   }
   if (pieces != nullptr) {
     *pieces = std::move(x.stats);
-    pieces->pieces.clear();
-    for (const SupermeshPiece& p : x.pieces)
-      pieces->pieces.push_back({x.source_ids[static_cast<std::size_t>(p.source)],
-                                target.cell_ids[static_cast<std::size_t>(p.target)], p.volume, p.first});
+    pieces->pieces = detail::global_pieces(x, target);
   }
   return out;
 }
