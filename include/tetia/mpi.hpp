@@ -1,4 +1,4 @@
-// tetia/mpi.hpp -- the supermesh and P0 remap of two tetrahedral meshes distributed over the
+// tetia/mpi.hpp -- the supermesh, P0 and P1 remap of two tetrahedral meshes distributed over the
 // ranks of an MPI communicator, partitioned in any way (library tetia_mpi, CMake target
 // tetia::mpi; built where MPI is found).
 //
@@ -81,5 +81,27 @@ std::vector<double> remap_p0(const MeshPart& source, std::span<const double> sou
                              MPI_Comm comm, int components = 1,
                              P0Normalization normalization = P0Normalization::cell_volume,
                              const DistributedOptions& options = {}, DistributedSupermesh* pieces = nullptr);
+
+/// Rows of a distributed sparse matrix held by one rank, CSR by global ids: row row_ids[r] has
+/// columns column_ids[row_begin[r] .. row_begin[r + 1]) (ascending) with those values.
+struct DistributedMatrix {
+  std::vector<std::int64_t> row_ids;
+  std::vector<std::int64_t> row_begin;
+  std::vector<std::int64_t> column_ids;
+  std::vector<double> values;
+};
+
+/// P1 (Galerkin) remap for this rank's target nodes: M_t u_t = M_ts u_s over the whole meshes.
+/// Needs MeshPart::node_ids for both parts. `source_node_values` holds components values per
+/// local source node (a node in several parts must have the same values in each), the result
+/// components values per local target node. Each target node is owned by the lowest rank whose
+/// target part has it; `mixed_mass` (if given) receives M_ts's rows of the nodes this rank owns
+/// (columns: source node ids), and `report` the last component's conjugate gradient. The solve
+/// is tetia::remap_p1's (Jacobi-preconditioned CG from the lumped solution to a residual of
+/// 1e-14), over MPI: src/mpi/distributed_p1.cpp.
+std::vector<double> remap_p1(const MeshPart& source, std::span<const double> source_node_values,
+                             const MeshPart& target, MPI_Comm comm, int components = 1,
+                             const DistributedOptions& options = {}, P1RemapReport* report = nullptr,
+                             DistributedMatrix* mixed_mass = nullptr);
 
 }  // namespace tetia::mpi

@@ -46,8 +46,8 @@ int ranks() {
 struct Part {
   std::vector<double> coordinates;
   std::vector<std::int32_t> cells;
-  std::vector<std::int64_t> ids;
-  tetia::mpi::MeshPart view() const { return {coordinates, cells, ids}; }
+  std::vector<std::int64_t> ids, node_ids;
+  tetia::mpi::MeshPart view() const { return {coordinates, cells, ids, node_ids}; }
 };
 
 Part part_of(const TetMesh& m, const std::vector<int>& owner, int r) {
@@ -60,6 +60,7 @@ Part part_of(const TetMesh& m, const std::vector<int>& owner, int r) {
       auto& l = local[static_cast<std::size_t>(v)];
       if (l < 0) {
         l = static_cast<std::int32_t>(p.coordinates.size() / 3);
+        p.node_ids.push_back(v);
         const Vec3& x = m.nodes[static_cast<std::size_t>(v)];
         p.coordinates.insert(p.coordinates.end(), {x.x, x.y, x.z});
       }
@@ -230,6 +231,67 @@ TEST(Mpi, P0RemapEqualsTheSerialOneAndConserves) {
       scale += std::abs(u[c]) * source.volumes[c];
     }
     EXPECT_LE(std::abs(total - integral), 1e-13 * scale);
+  }
+}
+
+TEST(Mpi, P1RemapAgreesWithTheSerialOneReproducesLinearFieldsAndConserves) {
+  const TetMesh source = tetia::generate_box({0.0, 0.0, 0.0}, {1.0, 1.0, 1.0}, 0.17);
+  const TetMesh target = kuhn(5, 0.0);
+  // Two components: a random field, and a linear one (reproduced exactly by the projection).
+  std::vector<double> u(2 * source.num_nodes());
+  std::mt19937 rng(6);
+  for (std::size_t n = 0; n < source.num_nodes(); ++n) {
+    const Vec3& p = source.nodes[n];
+    u[2 * n] = std::uniform_real_distribution<double>(-1.0, 1.0)(rng);
+    u[2 * n + 1] = 1.0 + 2.0 * p.x - 3.0 * p.y + 0.5 * p.z;
+  }
+  std::vector<double> first(source.num_nodes());
+  for (std::size_t n = 0; n < first.size(); ++n) first[n] = u[2 * n];
+  tetia::SupermeshOptions keep;
+  keep.keep_mixed_mass = true;
+  const tetia::Supermesh whole = tetia::supermesh(source, target, keep);
+  const std::vector<double> serial = tetia::remap_p1(whole, first);
+  const tetia::SparseMatrix serial_mixed = tetia::mixed_mass_matrix(whole);
+  double size = 0.0;
+  for (const double v : serial) size = std::max(size, std::abs(v));
+  for (const Partition kind : {Partition::random, Partition::slabs, Partition::leave_one_empty}) {
+    const Part s = part_of(source, partition(source, kind, 31, true), rank());
+    const Part t = part_of(target, partition(target, kind, 32, false), rank());
+    std::vector<double> values;
+    for (const std::int64_t id : s.node_ids)
+      values.insert(values.end(), {u[2 * static_cast<std::size_t>(id)], u[2 * static_cast<std::size_t>(id) + 1]});
+    tetia::P1RemapReport report;
+    tetia::mpi::DistributedMatrix mixed;
+    const std::vector<double> v =
+        tetia::mpi::remap_p1(s.view(), values, t.view(), MPI_COMM_WORLD, 2, {}, &report, &mixed);
+    ASSERT_EQ(v.size(), 2 * t.node_ids.size());
+    EXPECT_GT(report.iterations, 0);
+    for (std::size_t n = 0; n < t.node_ids.size(); ++n) {
+      const auto id = static_cast<std::size_t>(t.node_ids[n]);
+      const Vec3& p = target.nodes[id];
+      EXPECT_NEAR(v[2 * n], serial[id], 1e-13 * size) << id;
+      EXPECT_NEAR(v[2 * n + 1], 1.0 + 2.0 * p.x - 3.0 * p.y + 0.5 * p.z, 1e-12) << id;
+    }
+    // M_ts's rows, owned once each over the ranks, equal one process's to rounding.
+    std::size_t owned = mixed.row_ids.size(), total_rows = 0;
+    MPI_Allreduce(&owned, &total_rows, 1, MPI_UNSIGNED_LONG, MPI_SUM, MPI_COMM_WORLD);
+    EXPECT_EQ(total_rows, target.num_nodes());
+    for (std::size_t r = 0; r < mixed.row_ids.size(); ++r)
+      for (auto e = mixed.row_begin[r]; e < mixed.row_begin[r + 1]; ++e) {
+        const double want = serial_mixed.coeff(mixed.row_ids[r], mixed.column_ids[static_cast<std::size_t>(e)]);
+        EXPECT_NEAR(mixed.values[static_cast<std::size_t>(e)], want, 1e-14 * std::abs(want));  // terms >= 0, summed in another order
+      }
+    // Conservation: the integral of the result (1^T M_t u_t over owned rows = sum of M_ts u_s).
+    double local = 0.0;
+    for (std::size_t r = 0; r < mixed.row_ids.size(); ++r)
+      for (auto e = mixed.row_begin[r]; e < mixed.row_begin[r + 1]; ++e)
+        local += mixed.values[static_cast<std::size_t>(e)] * first[static_cast<std::size_t>(mixed.column_ids[static_cast<std::size_t>(e)])];
+    double integral = 0.0;
+    MPI_Allreduce(&local, &integral, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+    double serial_integral = 0.0;
+    const Eigen::VectorXd b = serial_mixed * Eigen::Map<const Eigen::VectorXd>(first.data(), static_cast<Eigen::Index>(first.size()));
+    for (Eigen::Index i = 0; i < b.size(); ++i) serial_integral += b[i];
+    EXPECT_NEAR(integral, serial_integral, 1e-13);
   }
 }
 
