@@ -10,6 +10,7 @@
 #include <string>
 
 #include "mesh_commands.hpp"
+#include "mpi_mode.hpp"
 #include "pairs.hpp"
 
 #ifndef TETIA_VERSION
@@ -82,7 +83,7 @@ int run_pairs_command(const PairsCommand& cmd) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   CLI::App app{
       "tetia: robust tetrahedron-tetrahedron intersection in floating point\n"
       "(McCoid & Gander's algorithm: a real intersection never vanishes through rounding).",
@@ -113,6 +114,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   sm_cmd->add_option("--search", sm.search, "Candidate search: front (advancing front; target cells must not overlap) or rtree")
       ->check(CLI::IsMember({"front", "rtree"}))
+      ->capture_default_str();
+  sm_cmd->add_option("--partition", sm.partition,
+                     "Under mpiexec: how the meshes are cut among the ranks: morton (runs along a Morton curve), "
+                     "reversed (the target's runs to the ranks in reverse: partitions that do not match), random")
+      ->check(CLI::IsMember({"morton", "reversed", "random"}))
       ->capture_default_str();
   sm_cmd->footer("The dimension comes from the files: tetrahedra make a 3D mesh; without them,\n"
                  "triangles (in a plane z = const) a 2D one. Both files must have the same dimension.\n"
@@ -148,6 +154,11 @@ int main(int argc, char** argv) {
   rm_cmd->add_option("--matrix", rm.matrix, "Write the coupling (mixed mass) matrix in Matrix Market format");
   rm_cmd->add_option("--threads", rm.threads, "OpenMP threads (0: default)")
       ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  rm_cmd->add_option("--partition", rm.partition,
+                     "Under mpiexec: how the meshes are cut among the ranks: morton (runs along a Morton curve), "
+                     "reversed (the target's runs to the ranks in reverse: partitions that do not match), random")
+      ->check(CLI::IsMember({"morton", "reversed", "random"}))
       ->capture_default_str();
   rm_cmd->footer("Meshes of either dimension (as for supermesh), both the same.\n"
                  "Results are per cell of the files (P0: one value per hexahedron, prism, pyramid,\n"
@@ -189,4 +200,11 @@ int main(int argc, char** argv) {
   std::fputs(app.help().c_str(), stderr);
   std::fputs("tetia: a subcommand is required (see 'tetia pairs --help')\n", stderr);
   return tetia::app::exit_bad_input;
+}
+
+// Under mpiexec, ranks other than 0 serve rank 0 (app/mpi_mode.hpp) and return from
+// mpi_start(); rank 0 runs the command and tells them its exit status.
+int main(int argc, char** argv) {
+  if (const auto status = tetia::app::mpi_start(argc, argv)) return *status;
+  return tetia::app::mpi_finish(run(argc, argv));
 }

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "../src/compensated_sum.hpp"
+#include "mpi_mode.hpp"
 #include "pairs.hpp"
 #include "progress.hpp"
 #include "tetia/file_cells.hpp"
@@ -412,7 +413,7 @@ int supermesh_command(const SupermeshCommand& cmd, const Mesh& source, const Mes
   options.search = parse_search(cmd.search);
   options.threads = cmd.threads;
   options.progress = intersection_progress(source.num_cells());
-  const auto s = supermesh(borrow(source), borrow(target), options);
+  const auto s = parallel_supermesh(borrow(source), borrow(target), options, cmd.partition);
   const auto pairs = file_cell_pairs(s);
   if (!cmd.output.empty()) {
     progress("writing " + cmd.output);
@@ -458,7 +459,7 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
   // P1 (and its --matrix) needs each piece's local mixed mass matrix, not the polyhedron itself.
   options.keep_mixed_mass = cmd.order == 1;
   options.progress = intersection_progress(source.num_cells());
-  const auto s = supermesh(borrow(source), borrow(target), options);
+  const auto s = parallel_supermesh(borrow(source), borrow(target), options, cmd.partition);
   const auto pairs = file_cell_pairs(s);
   progress(cmd.order == 0 ? "remap" : "solve");
   if (!cmd.matrix.empty()) {

@@ -20,6 +20,7 @@ struct SupermeshCommand {
   bool ascii = false;  // the VTU as text instead of compressed binary
   bool progress = false, quiet = false;  // force the progress line on or off (app/progress.hpp)
   bool corner_nodes = false;             // read higher-order cells by their corners (straight)
+  std::string partition = "morton";      // under mpiexec (app/mpi_mode.hpp)
 };
 
 struct RemapCommand {
@@ -32,6 +33,7 @@ struct RemapCommand {
   bool ascii = false;  // the VTU as text instead of compressed binary
   bool progress = false, quiet = false;  // force the progress line on or off (app/progress.hpp)
   bool corner_nodes = false;             // read higher-order cells by their corners (straight)
+  std::string partition = "morton";      // under mpiexec (app/mpi_mode.hpp)
 };
 
 struct DemoCommand {

@@ -28,6 +28,7 @@
 
 #include <mpi.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -54,6 +55,9 @@ struct DistributedOptions {
   /// to ranks whose region is not convex, at P * boxes_per_rank boxes kept on every rank.
   int boxes_per_rank = 64;
   int threads = 0;  ///< OpenMP threads of the local supermesh (0: OpenMP's default)
+  /// supermesh(): also return each piece's local mixed mass matrix (DistributedSupermesh::
+  /// local_mass), as SupermeshOptions::keep_mixed_mass does.
+  bool keep_mixed_mass = false;
 };
 
 struct DistributedPiece {
@@ -64,6 +68,9 @@ struct DistributedPiece {
 
 struct DistributedSupermesh {
   std::vector<DistributedPiece> pieces;  ///< this rank's target cells' pieces, by (target, source)
+  /// pieces[k]'s local mixed mass matrix (as Supermesh::local_mass), if keep_mixed_mass
+  std::vector<std::array<double, 16>> local_mass;
+  std::size_t candidates = 0;            ///< pairs this rank handed to the kernel
   // What this rank exchanged, for the benchmarks (bytes of payload, not MPI's own).
   std::size_t boxes_received = 0;        ///< target boxes of all the ranks (its own included)
   std::size_t cells_sent = 0;            ///< source cells sent (to other ranks; copies counted)

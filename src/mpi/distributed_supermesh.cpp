@@ -299,6 +299,7 @@ Exchanged exchange_and_intersect(const MeshPart& source, std::span<const double>
       so.threads = options.threads;
       so.keep_mixed_mass = keep_mixed_mass;
       Supermesh s = tetia::supermesh(std::make_shared<const TetMesh>(std::move(soup)), out.target, so);
+      out.stats.candidates = s.candidates;
       std::vector<std::size_t> order(s.pieces.size());
       std::iota(order.begin(), order.end(), std::size_t{0});
       const auto key = [&](std::size_t k) {
@@ -334,9 +335,11 @@ std::vector<DistributedPiece> global_pieces(const Exchanged& x, const MeshPart& 
 
 DistributedSupermesh supermesh(const MeshPart& source, const MeshPart& target, MPI_Comm comm,
                                const DistributedOptions& options) {
-  detail::Exchanged x = detail::exchange_and_intersect(source, {}, 0, {}, 0, target, comm, options, false, false);
+  detail::Exchanged x =
+      detail::exchange_and_intersect(source, {}, 0, {}, 0, target, comm, options, options.keep_mixed_mass, false);
   DistributedSupermesh out = std::move(x.stats);
   out.pieces = detail::global_pieces(x, target);
+  out.local_mass = std::move(x.local_mass);
   return out;
 }
 
