@@ -16,7 +16,6 @@
 #include <random>
 #include <vector>
 
-#include "../src/morton.hpp"
 #include "tetia/mpi.hpp"
 #endif
 
@@ -60,13 +59,7 @@ int world_rank() {
   return r;
 }
 
-/// A rank's part of a mesh as tetia/mpi.hpp takes it, with its storage.
-struct Part {
-  std::vector<double> coordinates;
-  std::vector<std::int32_t> cells;
-  std::vector<std::int64_t> cell_ids, node_ids;
-  mpi::MeshPart view() const { return {coordinates, cells, cell_ids, node_ids}; }
-};
+using Part = mpi::OwnedMeshPart;
 
 template <class T>
 void send_vector(const std::vector<T>& v, int to, MPI_Datatype type) {
@@ -112,29 +105,6 @@ std::vector<double> pack(const mpi::DistributedSupermesh& d, bool with_mass) {
   return out;
 }
 
-/// The parts of every rank: the cells of rank q, their nodes renumbered in order of first use.
-std::vector<Part> parts_of(const TetMesh& m, const std::vector<int>& owner, int ranks) {
-  std::vector<Part> parts(static_cast<std::size_t>(ranks));
-  std::vector<std::vector<std::int32_t>> local(static_cast<std::size_t>(ranks));
-  for (auto& l : local) l.assign(m.num_nodes(), -1);
-  for (std::size_t c = 0; c < m.num_cells(); ++c) {
-    const auto q = static_cast<std::size_t>(owner[c]);
-    Part& p = parts[q];
-    p.cell_ids.push_back(static_cast<std::int64_t>(c));
-    for (const std::int32_t v : m.cells[c]) {
-      std::int32_t& l = local[q][static_cast<std::size_t>(v)];
-      if (l < 0) {
-        l = static_cast<std::int32_t>(p.node_ids.size());
-        p.node_ids.push_back(v);
-        const Vec3& x = m.nodes[static_cast<std::size_t>(v)];
-        p.coordinates.insert(p.coordinates.end(), {x.x, x.y, x.z});
-      }
-      p.cells.push_back(l);
-    }
-  }
-  return parts;
-}
-
 /// Which rank gets each cell.
 std::vector<int> owners(const TetMesh& m, int ranks, const std::string& kind, bool target) {
   const std::size_t n = m.num_cells();
@@ -144,33 +114,9 @@ std::vector<int> owners(const TetMesh& m, int ranks, const std::string& kind, bo
     for (int& o : owner) o = static_cast<int>(rng() % static_cast<unsigned>(ranks));
     return owner;
   }
-  Vec3 lo = m.nodes[0], hi = m.nodes[0];
-  for (const Vec3& p : m.nodes) {
-    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-  }
-  const auto quantize = [](double v, double a, double b) {
-    const double u = b > a ? (v - a) / (b - a) : 0.0;
-    return static_cast<std::uint64_t>(std::clamp(u, 0.0, 1.0) * double((1u << 21) - 1));
-  };
-  std::vector<std::uint64_t> code(n);
-  for (std::size_t c = 0; c < n; ++c) {
-    Vec3 g{0, 0, 0};
-    for (const std::int32_t v : m.cells[c]) {
-      const Vec3& p = m.nodes[static_cast<std::size_t>(v)];
-      g = {g.x + 0.25 * p.x, g.y + 0.25 * p.y, g.z + 0.25 * p.z};
-    }
-    code[c] = tetia::detail::spread_bits<3>(quantize(g.x, lo.x, hi.x)) << 2 |
-              tetia::detail::spread_bits<3>(quantize(g.y, lo.y, hi.y)) << 1 |
-              tetia::detail::spread_bits<3>(quantize(g.z, lo.z, hi.z));
-  }
-  std::vector<std::size_t> order(n);
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return code[a] < code[b]; });
-  for (std::size_t i = 0; i < n; ++i) {
-    const int run = static_cast<int>(i * static_cast<std::size_t>(ranks) / n);
-    owner[order[i]] = target && kind == "reversed" ? ranks - 1 - run : run;
-  }
+  owner = mpi::morton_partition(m, ranks);
+  if (target && kind == "reversed")
+    for (int& o : owner) o = ranks - 1 - o;
   return owner;
 }
 
@@ -238,8 +184,8 @@ Supermesh parallel_supermesh(std::shared_ptr<const TetMesh> source, std::shared_
   if (ranks == 1) return supermesh(std::move(source), std::move(target), options);
   const auto t0 = std::chrono::steady_clock::now();
   if (options.progress) options.progress(0, source->num_cells());
-  std::vector<Part> s = parts_of(*source, owners(*source, ranks, partition, false), ranks);
-  std::vector<Part> t = parts_of(*target, owners(*target, ranks, partition, true), ranks);
+  std::vector<Part> s = mpi::parts_of(*source, owners(*source, ranks, partition, false), ranks);
+  std::vector<Part> t = mpi::parts_of(*target, owners(*target, ranks, partition, true), ranks);
   const bool with_mass = options.keep_mixed_mass || options.keep_polyhedra;
   std::array<int, 3> command{distributed_supermesh, with_mass ? 1 : 0, options.threads};
   MPI_Bcast(command.data(), 3, MPI_INT, 0, MPI_COMM_WORLD);

@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "tetia/geometry.hpp"
+#include "tetia/mesh.hpp"
 #include "tetia/remap.hpp"
 
 namespace tetia::mpi {
@@ -48,6 +49,24 @@ struct MeshPart {
   /// needed by remap_p1 only, which assembles and solves by global node.
   std::span<const std::int64_t> node_ids = {};
 };
+
+/// A MeshPart with its own storage: a part cut from a whole mesh (part_of, parts_of).
+struct OwnedMeshPart {
+  std::vector<double> coordinates;
+  std::vector<std::int32_t> cells;
+  std::vector<std::int64_t> cell_ids, node_ids;
+  MeshPart view() const { return {coordinates, cells, cell_ids, node_ids}; }
+};
+
+/// For a rank that holds a whole mesh: part q has the cells c with owner[c] == q (ids: c), with
+/// the nodes they use renumbered in order of first use (ids: their indices in the mesh); one
+/// pass for all the parts. Throws std::invalid_argument if owner's size is not the number of
+/// cells or an owner is not in [0, parts).
+std::vector<OwnedMeshPart> parts_of(const TetMesh& mesh, std::span<const int> owner, int parts);
+
+/// A partition into `parts` runs of equal size (to one cell) along a Morton curve through the
+/// cell centroids (in the mesh's bounding box): compact regions, as partitioners give.
+std::vector<int> morton_partition(const TetMesh& mesh, int parts);
 
 struct DistributedOptions {
   /// Boxes each rank publishes for its target cells (cells cut into this many runs along a

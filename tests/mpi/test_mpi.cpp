@@ -41,33 +41,12 @@ int ranks() {
   return n;
 }
 
-/// A rank's part of a mesh, with the storage its spans point into. Cell ids are the whole
-/// mesh's cell indices; nodes are renumbered in order of first use.
-struct Part {
-  std::vector<double> coordinates;
-  std::vector<std::int32_t> cells;
-  std::vector<std::int64_t> ids, node_ids;
-  tetia::mpi::MeshPart view() const { return {coordinates, cells, ids, node_ids}; }
-};
+/// This rank's part of a mesh (tetia::mpi::parts_of: cell ids are the whole mesh's cell
+/// indices, node ids its node indices).
+using Part = tetia::mpi::OwnedMeshPart;
 
 Part part_of(const TetMesh& m, const std::vector<int>& owner, int r) {
-  Part p;
-  std::vector<std::int32_t> local(m.num_nodes(), -1);
-  for (std::size_t c = 0; c < m.num_cells(); ++c) {
-    if (owner[c] != r) continue;
-    p.ids.push_back(static_cast<std::int64_t>(c));
-    for (const std::int32_t v : m.cells[c]) {
-      auto& l = local[static_cast<std::size_t>(v)];
-      if (l < 0) {
-        l = static_cast<std::int32_t>(p.coordinates.size() / 3);
-        p.node_ids.push_back(v);
-        const Vec3& x = m.nodes[static_cast<std::size_t>(v)];
-        p.coordinates.insert(p.coordinates.end(), {x.x, x.y, x.z});
-      }
-      p.cells.push_back(l);
-    }
-  }
-  return p;
+  return std::move(tetia::mpi::parts_of(m, owner, ranks())[static_cast<std::size_t>(r)]);
 }
 
 // random: cells scattered; blocks: runs of the file order; slabs: compact regions, slabs across
@@ -152,7 +131,7 @@ void expect_same_pieces(const TetMesh& source, const TetMesh& target, Partition 
   const tetia::mpi::DistributedSupermesh d = tetia::mpi::supermesh(s.view(), t.view(), MPI_COMM_WORLD, options);
   // Each rank's pieces are its own target cells', sorted.
   for (std::size_t i = 0; i < d.pieces.size(); ++i) {
-    EXPECT_TRUE(std::binary_search(t.ids.begin(), t.ids.end(), d.pieces[i].target));
+    EXPECT_TRUE(std::binary_search(t.cell_ids.begin(), t.cell_ids.end(), d.pieces[i].target));
     if (i > 0) {
       EXPECT_LT((Key{d.pieces[i - 1].target, d.pieces[i - 1].source}), (Key{d.pieces[i].target, d.pieces[i].source}));
     }
@@ -212,13 +191,13 @@ TEST(Mpi, P0RemapEqualsTheSerialOneAndConserves) {
     const Part t = part_of(target, partition(target, Partition::leave_one_empty, 22, false), rank());
     // Two components: u and 2u.
     std::vector<double> values;
-    for (const std::int64_t id : s.ids) values.insert(values.end(), {u[static_cast<std::size_t>(id)], 2.0 * u[static_cast<std::size_t>(id)]});
+    for (const std::int64_t id : s.cell_ids) values.insert(values.end(), {u[static_cast<std::size_t>(id)], 2.0 * u[static_cast<std::size_t>(id)]});
     const std::vector<double> v = tetia::mpi::remap_p0(s.view(), values, t.view(), MPI_COMM_WORLD, 2, normalization);
-    ASSERT_EQ(v.size(), 2 * t.ids.size());
+    ASSERT_EQ(v.size(), 2 * t.cell_ids.size());
     const std::vector<double> serial = tetia::remap_p0(tetia::supermesh(source, target), u, normalization);
     double local = 0.0;
-    for (std::size_t i = 0; i < t.ids.size(); ++i) {
-      const auto id = static_cast<std::size_t>(t.ids[i]);
+    for (std::size_t i = 0; i < t.cell_ids.size(); ++i) {
+      const auto id = static_cast<std::size_t>(t.cell_ids[i]);
       EXPECT_EQ(v[2 * i], serial[id]) << id;  // bit for bit
       EXPECT_EQ(v[2 * i + 1], 2.0 * serial[id]) << id;
       local += v[2 * i] * target.volumes[id];
