@@ -45,8 +45,11 @@ struct MeshPart {
   std::span<const double> coordinates;      ///< 3 per local node, x y z
   std::span<const std::int32_t> cells;      ///< 4 local node indices per local cell
   std::span<const std::int64_t> cell_ids;   ///< the global id of each local cell (unique, >= 0)
-  /// The global id of each local node (>= 0; a node in several parts has the same id in each):
-  /// needed by remap_p1 only, which assembles and solves by global node.
+  /// The global id of each local node (>= 0; a node in several parts has the same id, and the
+  /// same coordinates, in each): needed by remap_p1, which assembles and solves by global node;
+  /// optional elsewhere, where they make the receiving ranks faster (where every rank with
+  /// source cells gives them, the source cells travel with them and the receiving rank rebuilds
+  /// their adjacency: the advancing front search instead of an R-tree over a soup of cells).
   std::span<const std::int64_t> node_ids = {};
 };
 

@@ -40,6 +40,7 @@
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <utility>
 
 #include <boost/geometry.hpp>
@@ -187,7 +188,7 @@ Exchanged exchange_and_intersect(const MeshPart& source, std::span<const double>
   const double t0 = MPI_Wtime();
   const int self = rank_of(comm);
   const auto ranks = static_cast<std::size_t>(size_of(comm));
-  const auto per_value = static_cast<std::size_t>(doubles), per_extra = static_cast<std::size_t>(ids);
+  const auto per_value = static_cast<std::size_t>(doubles);
   Exchanged out;
 
   // The parts, checked, and the target mesh built, before anything is sent.
@@ -195,7 +196,8 @@ Exchanged exchange_and_intersect(const MeshPart& source, std::span<const double>
   try {
     check_part(source, "source", need_node_ids);
     check_part(target, "target", need_node_ids);
-    if (values.size() != source.cell_ids.size() * per_value || extra.size() != source.cell_ids.size() * per_extra)
+    if (values.size() != source.cell_ids.size() * per_value ||
+        extra.size() != source.cell_ids.size() * static_cast<std::size_t>(ids))
       throw std::invalid_argument("tetia: mpi: " + std::to_string(values.size()) + " source values for " +
                                   std::to_string(source.cell_ids.size()) + " source cells");
     if (!target.cell_ids.empty()) {
@@ -211,6 +213,23 @@ Exchanged exchange_and_intersect(const MeshPart& source, std::span<const double>
     error = e.what();
   }
   agree_on_errors(comm, error);
+  // Where the source's node ids are known, its cells travel with them (the caller's extra ids
+  // are those ids where it needs them, as remap_p1), so that the receiving rank rebuilds the
+  // cells' adjacency and searches with the advancing front instead of an R-tree.
+  // Every rank must agree (a rank parses what the others send): ids travel where every rank
+  // with source cells has given them.
+  const int have_ids = need_node_ids || source.cell_ids.empty() || !source.node_ids.empty() ? 1 : 0;
+  int all_have_ids = 0;
+  MPI_Allreduce(&have_ids, &all_have_ids, 1, MPI_INT, MPI_MIN, comm);
+  const bool with_node_ids = all_have_ids == 1;
+  std::vector<std::int64_t> node_extra;
+  if (with_node_ids && ids == 0) {
+    node_extra.reserve(source.cells.size());
+    for (const std::int32_t v : source.cells) node_extra.push_back(source.node_ids[static_cast<std::size_t>(v)]);
+    extra = node_extra;
+    ids = 4;
+  }
+  const auto per_extra = static_cast<std::size_t>(ids);
 
   // 1. Target boxes from every rank.
   const std::vector<Box> mine = target_boxes(target, options.boxes_per_rank);
@@ -284,21 +303,39 @@ Exchanged exchange_and_intersect(const MeshPart& source, std::span<const double>
   error.clear();
   try {
     if (received > 0 && out.target) {
-      TetMesh soup;
-      soup.nodes.reserve(4 * received);
-      soup.cells.reserve(received);
+      // The received cells: sharing their nodes by id where the ids came along (a mesh with
+      // adjacency: the front search), else a soup of four nodes each (the R-tree search).
+      TetMesh received_mesh;
+      received_mesh.cells.reserve(received);
+      std::unordered_map<std::int64_t, std::int32_t> node_of;
       for (std::size_t c = 0; c < received; ++c) {
         const double* p = received_data.data() + c * per_cell;
-        for (int k = 0; k < 4; ++k) soup.nodes.push_back({p[3 * k], p[3 * k + 1], p[3 * k + 2]});
-        const auto base = static_cast<std::int32_t>(4 * c);
-        soup.cells.push_back({base, base + 1, base + 2, base + 3});
+        std::array<std::int32_t, 4> cell{};
+        for (std::size_t k = 0; k < 4; ++k) {
+          const Vec3 x{p[3 * k], p[3 * k + 1], p[3 * k + 2]};
+          auto index = static_cast<std::int32_t>(received_mesh.nodes.size());
+          if (with_node_ids) {
+            const std::int64_t id = out.source_extra[4 * c + k];
+            const auto [it, fresh] = node_of.try_emplace(id, index);
+            if (!fresh) {
+              index = it->second;
+              const Vec3& y = received_mesh.nodes[static_cast<std::size_t>(index)];
+              if (x.x != y.x || x.y != y.y || x.z != y.z)
+                throw std::invalid_argument("tetia: mpi: source node id " + std::to_string(id) +
+                                            " has two different positions (in the parts of two ranks, or two cells)");
+            }
+          }
+          if (index == static_cast<std::int32_t>(received_mesh.nodes.size())) received_mesh.nodes.push_back(x);
+          cell[k] = index;
+        }
+        received_mesh.cells.push_back(cell);
       }
-      finalize(soup, "tetia: mpi: rank " + std::to_string(self) + ": received source cells");
+      finalize(received_mesh, "tetia: mpi: rank " + std::to_string(self) + ": received source cells");
       SupermeshOptions so;
-      so.search = CandidateSearch::rtree;
+      so.search = with_node_ids ? CandidateSearch::front : CandidateSearch::rtree;
       so.threads = options.threads;
       so.keep_mixed_mass = keep_mixed_mass;
-      Supermesh s = tetia::supermesh(std::make_shared<const TetMesh>(std::move(soup)), out.target, so);
+      Supermesh s = tetia::supermesh(std::make_shared<const TetMesh>(std::move(received_mesh)), out.target, so);
       out.stats.candidates = s.candidates;
       std::vector<std::size_t> order(s.pieces.size());
       std::iota(order.begin(), order.end(), std::size_t{0});

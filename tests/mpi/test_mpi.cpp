@@ -129,6 +129,17 @@ void expect_same_pieces(const TetMesh& source, const TetMesh& target, Partition 
   tetia::mpi::DistributedOptions options;
   options.boxes_per_rank = 8;
   const tetia::mpi::DistributedSupermesh d = tetia::mpi::supermesh(s.view(), t.view(), MPI_COMM_WORLD, options);
+  // Without node ids the received cells are a soup (R-tree search): the same pieces.
+  tetia::mpi::MeshPart bare_source = s.view(), bare_target = t.view();
+  bare_source.node_ids = {};
+  bare_target.node_ids = {};
+  const tetia::mpi::DistributedSupermesh soup = tetia::mpi::supermesh(bare_source, bare_target, MPI_COMM_WORLD, options);
+  ASSERT_EQ(soup.pieces.size(), d.pieces.size());
+  for (std::size_t i = 0; i < d.pieces.size(); ++i) {
+    EXPECT_EQ(soup.pieces[i].source, d.pieces[i].source);
+    EXPECT_EQ(soup.pieces[i].target, d.pieces[i].target);
+    EXPECT_EQ(soup.pieces[i].volume, d.pieces[i].volume);
+  }
   // Each rank's pieces are its own target cells', sorted.
   for (std::size_t i = 0; i < d.pieces.size(); ++i) {
     EXPECT_TRUE(std::binary_search(t.cell_ids.begin(), t.cell_ids.end(), d.pieces[i].target));
