@@ -5,12 +5,14 @@
 //
 // Meshes: Kuhn meshes of N^3 cubes (6 N^3 tetrahedra; N = 55 gives 998,250), the source on the
 // unit cube and the target the same shifted by (0.31, 0.17, 0.23) cubes, so that nothing
-// matches. Every rank builds both whole meshes (the benchmark's own cost, not timed) and takes
-// its Morton part of each. Prints one JSON line on rank 0: ranks, threads, cells, pieces, the
+// matches. Every rank builds both whole meshes (the benchmark's own cost, not timed), takes its
+// Morton part of each and frees them; peak memory ("peak_mib") is then measured from there
+// (Linux's VmHWM, reset with /proc/self/clear_refs), so it is what the call costs. Prints one JSON line on rank 0: ranks, threads, cells, pieces, the
 // distributed call's seconds (the slowest rank), the source cells sent (all ranks, copies
 // counted) over the source's cells, bytes sent (all ranks) and per rank at most, the boxes each
 // rank holds, and each rank's part sizes; with "serial", instead tetia::supermesh on the whole
 // meshes in this one process (front search), for the same meshes.
+#include <malloc.h>
 #include <mpi.h>
 #include <omp.h>
 
@@ -39,6 +41,15 @@ double peak_mib() {
   return kib / 1024.0;
 }
 
+/// Starts VmHWM afresh from the current resident size (Linux: clear_refs 5), so that the peak
+/// read after a call is that call's (with what the process holds before it).
+void reset_peak() {
+  if (FILE* f = std::fopen("/proc/self/clear_refs", "w")) {
+    std::fputs("5", f);
+    std::fclose(f);
+  }
+}
+
 double part_mib(const tetia::mpi::OwnedMeshPart& p) {
   return double(p.coordinates.size() * 8 + p.cells.size() * 4 + p.cell_ids.size() * 8 + p.node_ids.size() * 8) /
          (1024.0 * 1024.0);
@@ -54,10 +65,11 @@ int main(int argc, char** argv) {
   const int n = argc > 1 ? std::atoi(argv[1]) : 55;
   const bool serial = argc > 2 && std::string(argv[2]) == "serial";
   const double h = 1.0 / n;
-  const tetia::TetMesh source = tetia::make_kuhn_mesh({n, n, n}, {0, 0, 0}, {h, h, h});
-  const tetia::TetMesh target = tetia::make_kuhn_mesh({n, n, n}, {0.31 * h, 0.17 * h, 0.23 * h}, {h, h, h});
   const int threads = omp_get_max_threads();
   if (serial) {
+    const tetia::TetMesh source = tetia::make_kuhn_mesh({n, n, n}, {0, 0, 0}, {h, h, h});
+    const tetia::TetMesh target = tetia::make_kuhn_mesh({n, n, n}, {0.31 * h, 0.17 * h, 0.23 * h}, {h, h, h});
+    reset_peak();
     if (rank == 0) {
       const auto t0 = std::chrono::steady_clock::now();
       const tetia::Supermesh s = tetia::supermesh(source, target);
@@ -69,12 +81,18 @@ int main(int argc, char** argv) {
     MPI_Finalize();
     return 0;
   }
-  std::vector<tetia::mpi::OwnedMeshPart> sp = tetia::mpi::parts_of(source, tetia::mpi::morton_partition(source, ranks), ranks);
-  std::vector<tetia::mpi::OwnedMeshPart> tp = tetia::mpi::parts_of(target, tetia::mpi::morton_partition(target, ranks), ranks);
-  const tetia::mpi::OwnedMeshPart s = std::move(sp[static_cast<std::size_t>(rank)]);
-  const tetia::mpi::OwnedMeshPart t = std::move(tp[static_cast<std::size_t>(rank)]);
-  sp.clear();
-  tp.clear();
+  // The whole meshes only long enough to cut this rank's parts: the peak below is the call's.
+  tetia::mpi::OwnedMeshPart s, t;
+  std::size_t cells = 0;
+  {
+    const tetia::TetMesh source = tetia::make_kuhn_mesh({n, n, n}, {0, 0, 0}, {h, h, h});
+    const tetia::TetMesh target = tetia::make_kuhn_mesh({n, n, n}, {0.31 * h, 0.17 * h, 0.23 * h}, {h, h, h});
+    cells = source.num_cells();
+    s = std::move(tetia::mpi::parts_of(source, tetia::mpi::morton_partition(source, ranks), ranks)[static_cast<std::size_t>(rank)]);
+    t = std::move(tetia::mpi::parts_of(target, tetia::mpi::morton_partition(target, ranks), ranks)[static_cast<std::size_t>(rank)]);
+  }
+  malloc_trim(0);
+  reset_peak();
   MPI_Barrier(MPI_COMM_WORLD);
   const double t0 = MPI_Wtime();
   const tetia::mpi::DistributedSupermesh d = tetia::mpi::supermesh(s.view(), t.view(), MPI_COMM_WORLD);
@@ -95,7 +113,7 @@ int main(int argc, char** argv) {
                 "\"seconds\": %.3f, \"cells_sent_per_source_cell\": %.4f, \"bytes_sent\": %llu, "
                 "\"bytes_sent_most\": %llu, \"cells_received_most\": %llu, \"boxes\": %zu, "
                 "\"part_mib_most\": %.1f, \"peak_mib_most\": %.0f}\n",
-                ranks, threads, source.num_cells(), total[0], slowest, double(total[1]) / double(source.num_cells()),
+                ranks, threads, cells, total[0], slowest, double(total[1]) / double(cells),
                 total[2], most[2], most[3], d.boxes_received, parts_most, peak_most);
   MPI_Finalize();
   return 0;

@@ -15,7 +15,7 @@
 // norm below 1e-14 of b's), on the owned rows: each product gathers the values of the ghost
 // columns (nodes of owned rows' cells that another rank owns) from their owners, and each dot
 // product is an MPI_Allreduce. Sums are in another order than one process's, so results agree
-// with tetia::remap_p1 to rounding amplified by the mass matrix's condition (1e-13 of the
+// with tetia::remap_p1 to rounding amplified by the mass matrix's condition (1e-14 of the
 // field's size in the tests), not bit for bit. A node whose cells all have zero volume gets a
 // unit diagonal (and so 0), as in one process.
 #include <algorithm>
