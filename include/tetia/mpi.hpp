@@ -15,11 +15,13 @@
 //   sum over pieces of volume * u_S, in source id order, divided by the target cell's volume
 //   (cell_volume) or by its covered volume (covered_volume; 0 where nothing covers it). Where
 //   the ids are the serial mesh's cell indices this is tetia::remap_p0's arithmetic, bit for bit.
+// - remap_p1: for each target node of the rank, the Galerkin projection over the whole meshes,
+//   solved over the ranks (see its declaration).
 // Communication (src/mpi/distributed_supermesh.cpp has the argument that it misses no piece):
 // each rank sends every other rank a few bounding boxes of its target cells (at most
 // DistributedOptions::boxes_per_rank, each over cells consecutive along a Morton curve), then
-// each source cell (its id, its four vertices and, for remap_p0, its field values) only to the
-// ranks one of whose boxes meets the cell's bounding box.
+// each source cell (its id, its four vertices, its node ids where given, and for the remaps its
+// field values) only to the ranks one of whose boxes meets the cell's bounding box.
 // Errors (a MeshPart whose arrays do not agree in size, a node index out of range, non-finite
 // coordinates, a field of the wrong size) throw std::invalid_argument on the rank that has
 // them; a collective call then stops on every rank together: every rank throws, the others
