@@ -1,31 +1,36 @@
-// The supermesh and P0 remap of two distributed tetrahedral meshes (tetia/mpi.hpp).
+// The supermesh and P0 remap of two distributed tetrahedral meshes (tetia/mpi.hpp), and the
+// exchange that remap_p1 (distributed_p1.cpp) shares.
 //
 // The exchange. Rank r holds target cells T_r and source cells S_r (any partitions).
 //  1. r sorts T_r along a Morton curve through the cell centroids, cuts it into at most
 //     B = boxes_per_rank runs of consecutive cells and publishes one axis-aligned box per run
-//     (the union of its cells' boxes): MPI_Allgather of the counts, MPI_Allgatherv of the
-//     boxes, 48 bytes each, P * B in all on every rank.
+//     (the union of its cells' boxes): an all-to-all of the boxes, 48 bytes each, P * B in all
+//     on every rank.
 //  2. For each of its source cells s, r finds (R-tree over all the boxes) the ranks q one of
 //     whose boxes meets s's box, closed boxes, touching included, and sends s to each such q
-//     once: its id (8 bytes), its four vertices (96 bytes) in its own vertex order and, for
-//     remap_p0, its field values (8 bytes per component). MPI_Alltoall of the counts, then
-//     MPI_Alltoallv of ids and of values.
-//  3. q intersects the source cells it received with its own target cells (tetia::supermesh,
-//     R-tree search: the received cells are a soup, without adjacency) and keeps the pieces.
+//     once: its id (8 bytes), its four vertices (96 bytes) in its own vertex order, its four
+//     node ids (32 bytes) where every rank with source cells gave them, and for the remaps its
+//     field values (8 bytes per value). MPI_Alltoall of the counts, then MPI_Alltoallv of ids
+//     and of values.
+//  3. q intersects the source cells it received with its own target cells (tetia::supermesh):
+//     with node ids the received cells share their nodes again, a mesh with adjacency, and the
+//     advancing front searches; without, they are a soup of four nodes each, and the R-tree.
+//     It keeps the pieces, sorted by (target id, source id).
 // Why no piece is missed. Let s cap t have positive volume, t held by q. Then s's box and t's
 // box overlap (each contains s cap t), t's box lies inside the box of t's run (a union of its
 // cells' boxes), so s's box meets a box q published and r sends s to q, which tests the pair:
-// the R-tree supermesh finds every pair with positive volume among the cells it is given (see
+// either search finds every pair with positive volume among the cells it is given (see
 // src/supermesh.cpp). Conversely each pair is tested only on the rank of its target cell, so
 // every piece appears once. Why bit for bit: a piece is the same kernel call on the same two
 // cells, vertex for vertex (the cells travel as their coordinates, in the order given; finalize
-// then orients the soup's cells as it orients the whole mesh), and front and R-tree searches
+// then orients the received cells as it orients the whole mesh), and front and R-tree searches
 // return the same pieces, dropping the same sub-resolution ones.
 // How much is sent, and why it is enough. Boxes: 48 B * B per rank to every rank, independent of
 // the mesh sizes. Cells: each source cell goes to the ranks whose target region's run boxes it
 // meets: for partitions into compact regions (Morton, graph partitioners) and meshes of similar
-// resolution, the cells of the source region that overlaps q's target region plus a layer one
-// cell thick around it (the boxes are slightly larger than the region), so about the rank's
+// resolution, the cells of the source region that overlaps q's target region plus a layer a
+// cell or two thick around it (the boxes are slightly larger than the region; two cube layers
+// of a Kuhn mesh in docs/benchmarks.md), so about the rank's
 // share of the source, which any algorithm that intersects s with t on one rank must bring
 // there. More boxes per rank tighten the cover of non-convex regions. Nothing is sent twice to
 // one rank.
