@@ -55,18 +55,17 @@ inline void check_size(std::size_t got, std::size_t want, const char* who, const
 
 inline std::size_t idx(std::int32_t i) { return static_cast<std::size_t>(i); }
 
-// M_ts from the pieces' local mixed mass matrices (src/mixed_mass.hpp), kept or computed here
-// from the kept shapes; the triplets come in the same order either way, so the sums are too.
-template <class Mesh>
-SpMat mixed_mass(const typename detail::Dim<Mesh>::Result& s, MassSource from) {
+// Calls f(target cell's nodes, source cell's nodes, A) for each piece in (target, source) order,
+// A its local mixed mass matrix (row-major, nv x nv): kept by the supermesh, or computed here
+// from the kept shape (src/mixed_mass.hpp), the same values either way. Pieces without a shape
+// (never one of positive volume) are skipped.
+template <class Mesh, class F>
+void for_each_local_mass(const typename detail::Dim<Mesh>::Result& s, MassSource from, F&& f) {
   using Dm = detail::Dim<Mesh>;
-  constexpr std::size_t nv = Dm::nv;
   const Mesh& src = *s.source;
   const Mesh& tgt = *s.target;
   const auto& shapes = Dm::shapes(s);
   const auto& kept = Dm::local_mass(s);
-  std::vector<Triplet> trip;
-  trip.reserve(s.pieces.size() * nv * nv);
   typename Dm::LocalMass local{};
   for (std::size_t k = 0; k < s.pieces.size(); ++k) {
     const auto& pc = s.pieces[k];
@@ -75,13 +74,22 @@ SpMat mixed_mass(const typename detail::Dim<Mesh>::Result& s, MassSource from) {
       if (P.empty()) continue;  // never for a piece of positive volume
       detail::piece_mixed_mass<Mesh>(src.cell(idx(pc.source)), P, local);
     }
-    const auto& A = from == MassSource::local_mass ? kept[k] : local;
-    const auto& tn = tgt.cells[idx(pc.target)];
-    const auto& sn = src.cells[idx(pc.source)];
+    f(tgt.cells[idx(pc.target)], src.cells[idx(pc.source)], from == MassSource::local_mass ? kept[k] : local);
+  }
+}
+
+// M_ts from the pieces' local mixed mass matrices; the triplets come in the same order whatever
+// their source, so the sums are too.
+template <class Mesh>
+SpMat mixed_mass(const typename detail::Dim<Mesh>::Result& s, MassSource from) {
+  constexpr std::size_t nv = detail::Dim<Mesh>::nv;
+  std::vector<Triplet> trip;
+  trip.reserve(s.pieces.size() * nv * nv);
+  for_each_local_mass<Mesh>(s, from, [&](const auto& tn, const auto& sn, const auto& A) {
     for (std::size_t i = 0; i < nv; ++i)
       for (std::size_t j = 0; j < nv; ++j) trip.emplace_back(tn[i], sn[j], A[i * nv + j]);
-  }
-  SpMat M(static_cast<Eigen::Index>(tgt.num_nodes()), static_cast<Eigen::Index>(src.num_nodes()));
+  });
+  SpMat M(static_cast<Eigen::Index>(s.target->num_nodes()), static_cast<Eigen::Index>(s.source->num_nodes()));
   M.setFromTriplets(trip.begin(), trip.end());
   return M;
 }
@@ -94,24 +102,9 @@ SpMat mixed_mass(const typename detail::Dim<Mesh>::Result& s, MassSource from) {
 template <class Mesh>
 Eigen::VectorXd mixed_mass_times(const typename detail::Dim<Mesh>::Result& s, MassSource from,
                                  std::span<const double> u) {
-  using Dm = detail::Dim<Mesh>;
-  constexpr std::size_t nv = Dm::nv;
-  const Mesh& src = *s.source;
-  const Mesh& tgt = *s.target;
-  const auto& shapes = Dm::shapes(s);
-  const auto& kept = Dm::local_mass(s);
-  Eigen::VectorXd b = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(tgt.num_nodes()));
-  typename Dm::LocalMass local{};
-  for (std::size_t k = 0; k < s.pieces.size(); ++k) {
-    const auto& pc = s.pieces[k];
-    if (from == MassSource::shapes) {
-      const auto& P = shapes[k];
-      if (P.empty()) continue;  // never for a piece of positive volume
-      detail::piece_mixed_mass<Mesh>(src.cell(idx(pc.source)), P, local);
-    }
-    const auto& A = from == MassSource::local_mass ? kept[k] : local;
-    const auto& tn = tgt.cells[idx(pc.target)];
-    const auto& sn = src.cells[idx(pc.source)];
+  constexpr std::size_t nv = detail::Dim<Mesh>::nv;
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(s.target->num_nodes()));
+  for_each_local_mass<Mesh>(s, from, [&](const auto& tn, const auto& sn, const auto& A) {
     double us[nv];
     for (std::size_t j = 0; j < nv; ++j) us[j] = u[idx(sn[j])];
     for (std::size_t i = 0; i < nv; ++i) {
@@ -119,13 +112,10 @@ Eigen::VectorXd mixed_mass_times(const typename detail::Dim<Mesh>::Result& s, Ma
       for (std::size_t j = 0; j < nv; ++j) acc += A[i * nv + j] * us[j];
       b[tn[i]] += acc;
     }
-  }
+  });
   return b;
 }
 
-// The consistent P1 mass matrix; for the solver (unit_for_unused) a node in no cell (or only in
-// flat ones) gets a unit diagonal, so that it solves to 0 (its right-hand side is 0) instead of
-// breaking the solver; without, its row is empty (the matrix as it is, tetia::mass_matrix).
 template <class Mesh>
 SpMat consistent_mass(const Mesh& m, bool unit_for_unused) {
   using Dm = detail::Dim<Mesh>;
