@@ -12,8 +12,10 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
+#include "support/error_of.hpp"
 #include "tetia/file_cells.hpp"
 #include "tetia/io.hpp"
 #include "tetia/mesh_from_arrays.hpp"
@@ -28,13 +30,7 @@ using namespace tetia;
 // std::runtime_error); fails the test if it throws nothing.
 template <class F>
 std::string message_of(F&& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "nothing thrown";
-  return "";
+  return testsupport::error_of<std::exception>(std::forward<F>(f));
 }
 
 template <class Mesh>

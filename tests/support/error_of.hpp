@@ -1,4 +1,4 @@
-// tests/support/error_of.hpp -- the message of the std::runtime_error a call throws, for tests of
+// tests/support/error_of.hpp -- the message of the exception a call throws, for tests of
 // error messages ("tetia: FILE: line 12: ...").
 #pragma once
 
@@ -9,15 +9,17 @@
 
 namespace tetia::testsupport {
 
-/// The message of the std::runtime_error `f` throws; fails the test if it throws nothing.
-template <class F>
+/// The message of the exception of type Error (std::runtime_error unless given; any
+/// std::exception with error_of<std::exception>) that `f` throws; fails the test if it throws
+/// nothing of that type.
+template <class Error = std::runtime_error, class F>
 std::string error_of(F&& f) {
   try {
     f();
-  } catch (const std::runtime_error& e) {
+  } catch (const Error& e) {
     return e.what();
   }
-  ADD_FAILURE() << "no std::runtime_error thrown";
+  ADD_FAILURE() << "no exception of the expected type thrown";
   return "";
 }
 
