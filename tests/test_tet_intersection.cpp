@@ -533,6 +533,47 @@ TEST(KernelContract, RetryWithTheOtherReference) {
   expect_contract(U, V, 1e-12, "retry");
 }
 
+TEST(KernelContract, NearTiesDoNotTwistACrossSection) {
+  // The non-convex configuration of the proof of Theorem 6 (Fig. 6: a line of Y meeting four
+  // faces of X) needs a cross-section X ∩ P_a whose vertices' b-signs alternate. Each of those
+  // signs is the sign of a 2x2 minor a_x b_y - a_y b_x of the vertices' coordinates, and the
+  // computed minor has the exact sign or is 0 (rounding is monotone, and coordinates are snapped
+  // away from underflow), so only a minor that rounds to a tie can be wrong. This family makes
+  // such ties on purpose: the reference tetrahedron as V (its coordinates are the input's), and
+  // one to three pairs of U's vertices whose (a, b) projections are parallel through the origin
+  // to within a few ulps. None may twist a cross-section (docs/architecture.md, step 8), and each
+  // pair keeps the contract.
+  std::mt19937_64 rng(2026);
+  std::uniform_real_distribution<double> coordinate(-1.5, 1.5);
+  std::uniform_int_distribution<int> ulps(-4, 4), plane(0, 2), octave(-10, 0);
+  IntersectionStats total;
+  const int pairs[3][2] = {{0, 1}, {2, 3}, {0, 2}};
+  for (int n = 0; n < 60000; ++n) {
+    Tet U;
+    for (auto& p : U)
+      for (int c = 0; c < 3; ++c) p[c] = coordinate(rng);
+    const int a = plane(rng), b = (a + 1 + plane(rng) % 2) % 3, other = 3 - a - b;
+    for (int k = 0; k <= n % 3; ++k) {
+      const int s = pairs[k][0], t = pairs[k][1];
+      const double lambda = coordinate(rng) * std::ldexp(1.0, octave(rng));
+      U[t][a] = lambda * U[s][a];
+      U[t][b] = std::nextafter(lambda * U[s][b], 0.0);
+      for (int m = ulps(rng); m != 0; m += m > 0 ? -1 : 1) U[t][b] = std::nextafter(U[t][b], m > 0 ? 10.0 : -10.0);
+    }
+    // Stretched or squashed across the tied planes, so that either tetrahedron is the reference.
+    for (auto& p : U) p[other] *= (n & 2) ? 4.0 : 0.3;
+    IntersectionStats st;
+    const double v = intersect(U, kRef, &st).volume(), w = intersection_volume(kRef, U);
+    ASSERT_EQ(std::memcmp(&v, &w, sizeof v), 0) << "pair " << n;
+    ASSERT_TRUE(std::isfinite(v) && v >= 0.0) << "pair " << n;
+    if (n % 600 == 0) expect_contract(U, kRef, 1e-12, "near ties " + std::to_string(n));
+    total += st;
+  }
+  EXPECT_EQ(total.nonconvex_lines, 0);
+  EXPECT_EQ(total.inconsistencies, total.retries);
+  EXPECT_GT(total.retries, 0);  // the family does reach the degenerate signs that the retry repairs
+}
+
 TEST(KernelContract, SizeRatiosContainedAndCut) {
   // Contained at any size ratio, and cut at ratios where the kernel's error (about eps times
   // the ratio) stays below 1e-12 of the smaller tetrahedron or is caught by the volume test.

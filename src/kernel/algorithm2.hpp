@@ -68,8 +68,10 @@ bool Kernel<kWeights, kStats>::run_steps(KernelResult& out, CornerList& cl) {
   // case is detected with statistics (nonconvex_lines, an inconsistency) but not repaired by
   // the paper's rule: four face corners on one line do not close into a simple polytope, so the
   // facets fail, and solve_with retries with the other reference and, failing that, takes the
-  // exact last resort. The tests have not produced it since the map snaps coordinates below
-  // 2^-340 to zero (the adversarial subnormal nudges that did).
+  // exact last resort. No input is known to reach it since the map snaps coordinates below
+  // 2^-340 to zero (the adversarial subnormal nudges that did): a computed 2x2 minor then has
+  // the exact sign or is a tie (docs/architecture.md, step 8, has the argument), and the test
+  // KernelContract.NearTiesDoNotTwistACrossSection makes ties on purpose.
   if (stats()) {
     for (int L = 0; L < 6; ++L) {
       int count = 0;
