@@ -18,12 +18,12 @@
 //      flood fill: a target t positive with s queues its face neighbours across the faces of t
 //      that s may cross. In 3D these are the faces on which the kernel's polytope s n t has a
 //      facet (OneToMany::moments: where int(s) meets the interior of a face, s n t has a facet
-//      there, so without one no path inside s crosses it); otherwise (kept polyhedra or mixed
-//      mass, a reference too flat for its signs to be certain, and in 2D) the faces whose plane
-//      does not have all of s strictly on t's side (certified with orient3d's error bound: the
-//      neighbour meets s with zero volume). A target tested zero queues nothing. Seeding stops
-//      once s is covered (the volumes found add up to |s| to 1e-12), or once a flood found
-//      pieces, crossed a risky face and was not cut (step 3 then searches for the rest).
+//      there, so without one no path inside s crosses it); otherwise (a reference too flat for
+//      its signs to be certain, and in 2D) the faces whose plane does not have all of s strictly
+//      on t's side (certified with orient3d's error bound: the neighbour meets s with zero
+//      volume). A target tested zero queues nothing. Seeding stops once s is covered (the
+//      volumes found add up to |s| to 1e-12), or once a flood found pieces, crossed a risky
+//      face and was not cut (step 3 then searches for the rest).
 //   2. Not covered yet, and the flood neither crossed a risky face nor was cut (both below):
 //      the targets of every processed neighbour of s and their neighbours (this crosses
 //      zero-volume contacts: for identical or face-sharing meshes the parent's targets only
@@ -83,10 +83,12 @@
 // so the result, including `candidates`, is the same bit for bit for any number of threads.
 // No allocation per pair: each thread keeps its buffers and its pieces until the final merge.
 //
-// Kept data: keep_polyhedra stores the kernel's whole polyhedron (polygon) per piece;
-// keep_mixed_mass calls the same full kernel, computes the piece's local mixed mass matrix from
-// the polyhedron while it is at hand (src/mixed_mass.hpp, the function the remap uses on kept
-// polyhedra) and stores only those 16 (9) numbers, merged in the same order as the pieces.
+// Kept data: every candidate runs the fast kernel path (moments only); a positive piece then
+// also runs the full kernel when polyhedra (polygons) or mixed mass matrices are kept (the same
+// moments bit for bit). keep_polyhedra stores the whole polyhedron (polygon) per piece;
+// keep_mixed_mass computes the piece's local mixed mass matrix from it while it is at hand
+// (src/mixed_mass.hpp, the function the remap uses on kept polyhedra) and stores only those 16
+// (9) numbers, merged in the same order as the pieces.
 #include "tetia/supermesh.hpp"
 
 #include <omp.h>
@@ -357,6 +359,10 @@ struct Shared {
   Box<Dm::d> target_bounds;  // the bounding box of all target cells
   bool keep_shapes;  // keep the polyhedra (polygons)
   bool keep_mass;    // keep each piece's local mixed mass matrix
+  // A caller's consumer (supermesh(source, target, consumer, options)), or null: its numbers per
+  // piece are computed here and kept, parallel to the pieces, until the merge hands them over.
+  BasicPieceConsumer<typename Dm::Piece, typename Dm::Shape>* consumer;
+  std::size_t values_per_piece;
   // The target cells in Morton order and the source cells in their visiting order; the front
   // and the R-tree name cells by their positions there, and pieces carry these positions until
   // the final merge, which writes the cells' indices.
@@ -392,6 +398,7 @@ class Worker {
   const std::vector<Piece>& pieces() const { return pieces_; }
   const std::vector<Shape>& shapes() const { return shapes_; }
   const std::vector<LocalMass>& local_mass() const { return mass_; }
+  const double* values(std::size_t piece) const { return values_.data() + piece * sh_.values_per_piece; }
 
   void run_chunk(Chunk& ch, int id, CandidateSearch search) {
     ch.worker = id;
@@ -463,10 +470,25 @@ class Worker {
     ++candidates_;
     const double floor = kResolution * std::min(svol_, rec.measure);
     typename Dm::Moments m;
-    if (sh_.keep_shapes || sh_.keep_mass) {
+    // The volume first, by the fast path (in 3D with what depends on s or t alone computed
+    // once); every entry point gives the same moments bit for bit.
+    if constexpr (Dm::d == 3) {
+      if (!one_) one_.emplace(S_);  // on the first candidate: many cells (outside the target) have none
+      m = one_->moments(T_, rec.conditioning, &crossed_);
+    } else {
+      m = intersection_moments(S_, T_);
+    }
+    if (!(Dm::measure(m) > floor)) return false;
+    if (sh_.keep_shapes || sh_.keep_mass || sh_.values_per_piece != 0) {
+      // The whole polyhedron (polygon) only for a piece: most candidates are empty, and their
+      // kernel calls stay on the fast path. Its moments are m, bit for bit.
       shape_ = intersect(S_, T_);
-      if (!(Dm::measure(shape_.moments()) > floor)) return false;
-      m = shape_.moments();
+      if (sh_.values_per_piece != 0) {  // the consumer's numbers, from the piece with its cells' indices
+        const std::size_t k = sh_.values_per_piece, at = values_.size();
+        if (at + k > values_.capacity()) reserve_huge(values_, std::max<std::size_t>(1024 * k, 2 * values_.capacity()));
+        values_.resize(at + k);
+        sh_.consumer->compute(Dm::piece(sh_.sources[static_cast<std::size_t>(s)].id, rec.id, m), shape_, values_.data() + at);
+      }
       if (sh_.keep_shapes) {
         reserve_for_one_more(shapes_);
         shapes_.push_back(shape_);
@@ -476,14 +498,6 @@ class Worker {
         mass_.emplace_back();
         detail::piece_mixed_mass<Mesh>(S_, shape_, mass_.back());
       }
-    } else {
-      // In 3D with what depends on s or t alone computed once (bit for bit the same moments).
-      if constexpr (Dm::d == 3) {
-        if (!one_) one_.emplace(S_);  // on the first candidate: many cells (outside the target) have none
-        m = one_->moments(T_, rec.conditioning, &crossed_);
-      }
-      else m = intersection_moments(S_, T_);
-      if (!(Dm::measure(m) > floor)) return false;
     }
     reserve_for_one_more(pieces_);
     pieces_.push_back(Dm::piece(s, t, m));
@@ -701,6 +715,7 @@ class Worker {
   std::vector<Piece> pieces_;
   std::vector<Shape> shapes_;
   std::vector<LocalMass> mass_;  // parallel to pieces_ when kept
+  std::vector<double> values_;   // a consumer's values_per_piece numbers per piece, parallel to pieces_
   std::size_t candidates_ = 0;
   bool crossed_risky_ = false;  // a positive target's risky face crossed by s (flood)
   double covered_ = 0.0;  // volume of s's pieces found so far
@@ -778,8 +793,10 @@ void morton_order(const Mesh& mesh, std::vector<std::int32_t>& order, std::vecto
 }
 
 template <class Mesh>
-typename detail::Dim<Mesh>::Result build(std::shared_ptr<const Mesh> source_mesh, std::shared_ptr<const Mesh> target_mesh,
-                                         const SupermeshOptions& options) {
+typename detail::Dim<Mesh>::Result build(
+    std::shared_ptr<const Mesh> source_mesh, std::shared_ptr<const Mesh> target_mesh, const SupermeshOptions& options,
+    BasicPieceConsumer<typename detail::Dim<Mesh>::Piece, typename detail::Dim<Mesh>::Shape>* consumer = nullptr,
+    std::size_t* pieces_handed = nullptr) {
   using Dm = detail::Dim<Mesh>;
   using TreeT = Tree<Dm::d>;
   if (!source_mesh || !target_mesh) throw std::invalid_argument("tetia: supermesh: a mesh is null");
@@ -855,8 +872,9 @@ typename detail::Dim<Mesh>::Result build(std::shared_ptr<const Mesh> source_mesh
   std::vector<std::uint8_t> state(ns, 0);
   std::vector<std::int32_t> parent(ns, -1);
   std::vector<std::size_t> piece_begin(ns, 0), piece_count(ns, 0);
-  const Shared<Mesh> sh{source, target, tree, TreeT::box(tree.bounds()), options.keep_polyhedra, options.keep_mixed_mass,
-                        targets, sources, state, parent, piece_begin, piece_count};
+  const std::size_t values_per_piece = consumer ? consumer->values_per_piece() : 0;
+  const Shared<Mesh> sh{source,    target, tree,  TreeT::box(tree.bounds()), options.keep_polyhedra, options.keep_mixed_mass,
+                        consumer,  values_per_piece, targets, sources, state, parent, piece_begin, piece_count};
 
   // Chunks of consecutive positions in that order; their number depends on the mesh only.
   constexpr std::size_t kChunkCells = 4096;
@@ -892,7 +910,7 @@ typename detail::Dim<Mesh>::Result build(std::shared_ptr<const Mesh> source_mesh
   // worker's storage), so that every target's pieces come out sorted by source. Pieces name
   // their cells by their positions among the records until here. The pieces alone are copied
   // directly; with polyhedra or local mixed mass matrices references are placed first, so
-  // that all three are copied once.
+  // that all three are copied once; a consumer is handed the pieces through the references.
   const auto target_id = [&](const typename Dm::Piece& p) { return targets[static_cast<std::size_t>(p.target)].id; };
   std::vector<std::size_t> offset(nt + 1, 0);
   std::size_t total = 0;
@@ -915,10 +933,10 @@ typename detail::Dim<Mesh>::Result build(std::shared_ptr<const Mesh> source_mesh
       for (std::size_t i = b; i < b + piece_count[static_cast<std::size_t>(p)]; ++i) place(id, w, i);
     }
   };
-  reserve_huge(out.pieces, total);
-  out.pieces.resize(total);
   std::vector<std::size_t> pos(offset.begin(), offset.end() - 1);
-  if (!options.keep_polyhedra && !options.keep_mixed_mass) {
+  if (!consumer && !options.keep_polyhedra && !options.keep_mixed_mass) {
+    reserve_huge(out.pieces, total);
+    out.pieces.resize(total);
     for_each_piece_by_source([&](std::size_t id, int w, std::size_t i) {
       typename Dm::Piece piece = workers[static_cast<std::size_t>(w)]->pieces()[i];
       piece.source = static_cast<std::int32_t>(id);
@@ -940,6 +958,22 @@ typename detail::Dim<Mesh>::Result build(std::shared_ptr<const Mesh> source_mesh
     refs[pos[static_cast<std::size_t>(target_id(workers[static_cast<std::size_t>(w)]->pieces()[i]))]++] =
         Ref{static_cast<std::int32_t>(id), w, i};
   });
+  const auto piece_of = [&](const Ref& r) {  // with its cells' indices
+    typename Dm::Piece piece = workers[static_cast<std::size_t>(r.worker)]->pieces()[r.index];
+    piece.source = r.source;
+    piece.target = target_id(piece);
+    return piece;
+  };
+  if (consumer) {  // handed over in (target, source) order, from this thread; nothing kept
+    for (const Ref& r : refs)
+      consumer->consume(piece_of(r),
+                        values_per_piece != 0 ? workers[static_cast<std::size_t>(r.worker)]->values(r.index) : nullptr);
+    if (pieces_handed) *pieces_handed = total;
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return out;
+  }
+  reserve_huge(out.pieces, total);
+  out.pieces.resize(total);
   auto& mass = Dm::local_mass(out);
   if (options.keep_mixed_mass) {
     reserve_huge(mass, total);
@@ -950,12 +984,8 @@ typename detail::Dim<Mesh>::Result build(std::shared_ptr<const Mesh> source_mesh
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::int64_t k = 0; k < total_i; ++k) {
     const Ref& r = refs[static_cast<std::size_t>(k)];
-    const auto& w = *workers[static_cast<std::size_t>(r.worker)];
-    typename Dm::Piece piece = w.pieces()[r.index];
-    piece.source = r.source;
-    piece.target = target_id(piece);
-    out.pieces[static_cast<std::size_t>(k)] = piece;
-    if (gather_mass) mass[static_cast<std::size_t>(k)] = w.local_mass()[r.index];
+    out.pieces[static_cast<std::size_t>(k)] = piece_of(r);
+    if (gather_mass) mass[static_cast<std::size_t>(k)] = workers[static_cast<std::size_t>(r.worker)]->local_mass()[r.index];
   }
   if (options.keep_polyhedra) {
     auto& shapes = Dm::shapes(out);
@@ -984,6 +1014,33 @@ Supermesh2 supermesh(std::shared_ptr<const TriMesh> source, std::shared_ptr<cons
 
 Supermesh2 supermesh(const TriMesh& source, const TriMesh& target, const SupermeshOptions& options) {
   return build(std::make_shared<const TriMesh>(source), std::make_shared<const TriMesh>(target), options);
+}
+
+namespace {
+
+template <class Mesh, class Consumer>
+SupermeshSummary build_for(const Mesh& source, const Mesh& target, Consumer& consumer, const SupermeshOptions& options) {
+  if (options.keep_polyhedra || options.keep_mixed_mass)
+    throw std::invalid_argument(
+        "tetia: supermesh: a supermesh handed to a consumer keeps nothing: keep_polyhedra and keep_mixed_mass must be "
+        "false (the consumer computes what it needs from each piece's polyhedron)");
+  // Borrowed, not owned: the result is not kept, and the meshes outlive this call.
+  const std::shared_ptr<const Mesh> src(std::shared_ptr<const Mesh>(), &source), tgt(std::shared_ptr<const Mesh>(), &target);
+  std::size_t pieces = 0;
+  const auto r = build(src, tgt, options, &consumer, &pieces);
+  return {pieces, r.candidates, r.seconds};
+}
+
+}  // namespace
+
+SupermeshSummary supermesh(const TetMesh& source, const TetMesh& target, PieceConsumer& consumer,
+                           const SupermeshOptions& options) {
+  return build_for(source, target, consumer, options);
+}
+
+SupermeshSummary supermesh(const TriMesh& source, const TriMesh& target, PieceConsumer2& consumer,
+                           const SupermeshOptions& options) {
+  return build_for(source, target, consumer, options);
 }
 
 }  // namespace tetia

@@ -24,6 +24,7 @@
 // dimensions share one implementation (src/remap.cpp, templates over the dimension).
 #pragma once
 
+#include <Eigen/Core>
 #include <Eigen/SparseCore>
 
 #include <filesystem>
@@ -54,6 +55,47 @@ struct P1RemapReport {
 
 std::vector<double> remap_p1(const Supermesh& s, std::span<const double> source_node_values,
                              P1RemapReport* report = nullptr);
+
+/// P1 remap without keeping the supermesh, for large meshes: the loads M_ts u_s of several
+/// source fields summed by a PieceConsumer (supermesh(source, target, loads, options)). Each
+/// piece's local mixed mass matrix (the one keep_mixed_mass keeps) is applied to every field's
+/// values at its source cell's nodes while the piece is found, and only those d + 1 numbers per
+/// field wait for the sums, which are formed in (target, source) order: bit for bit the loads
+/// remap_p1 sums from a kept supermesh, in (d + 1) * 8 B per piece and field instead of the
+/// matrix's (d + 1)^2 * 8 B and the kept pieces. The meshes and the fields' values must outlive
+/// it; every field has one value per source node (std::invalid_argument otherwise).
+template <class Mesh, class Piece, class Shape>
+class BasicP1Loads : public BasicPieceConsumer<Piece, Shape> {
+ public:
+  BasicP1Loads(const Mesh& source, const Mesh& target, std::vector<std::span<const double>> fields);
+  std::size_t values_per_piece() const override;
+  void compute(const Piece& piece, const Shape& shape, double* values) const override;
+  void consume(const Piece& piece, const double* values) override;
+  /// Per field, M_ts u_s: one value per target node.
+  const std::vector<Eigen::VectorXd>& loads() const { return loads_; }
+
+ private:
+  const Mesh& source_;
+  const Mesh& target_;
+  std::vector<std::span<const double>> fields_;
+  std::vector<Eigen::VectorXd> loads_;
+};
+using P1Loads = BasicP1Loads<TetMesh, SupermeshPiece, Polyhedron>;
+using P1Loads2 = BasicP1Loads<TriMesh, SupermeshPiece2, Polygon>;
+
+/// The end of P1 remap: solves M_t u_t = load (one value per target node) as remap_p1 does.
+std::vector<double> solve_p1(const TetMesh& target, const Eigen::VectorXd& load, P1RemapReport* report = nullptr);
+std::vector<double> solve_p1(const TriMesh& target, const Eigen::VectorXd& load, P1RemapReport* report = nullptr);
+
+/// Both: P1 remap of each field (one value per source node) straight from the meshes, bit for
+/// bit remap_p1(supermesh(source, target, {keep_mixed_mass}), field) for each. options as for
+/// supermesh() (keep_polyhedra and keep_mixed_mass false); reports, if given, one per field.
+std::vector<std::vector<double>> remap_p1(const TetMesh& source, const TetMesh& target,
+                                          std::span<const std::vector<double>> fields, const SupermeshOptions& options = {},
+                                          std::vector<P1RemapReport>* reports = nullptr);
+std::vector<std::vector<double>> remap_p1(const TriMesh& source, const TriMesh& target,
+                                          std::span<const std::vector<double>> fields, const SupermeshOptions& options = {},
+                                          std::vector<P1RemapReport>* reports = nullptr);
 
 /// The mixed mass (coupling) matrix M_ts (rows: target nodes, columns: source nodes) in Matrix
 /// Market coordinate format. Needs keep_mixed_mass or keep_polyhedra, as remap_p1.

@@ -103,6 +103,47 @@ Supermesh2 supermesh(std::shared_ptr<const TriMesh> source, std::shared_ptr<cons
                      const SupermeshOptions& options = {});
 Supermesh2 supermesh(const TriMesh& source, const TriMesh& target, const SupermeshOptions& options = {});
 
+/// What a supermesh that is not kept does with its pieces: the caller's choice (sum them into a
+/// remap's right-hand side, count them, write them), handed each piece as it is computed, so
+/// that nothing is stored that the caller does not need. Two phases, so that what the caller
+/// sums does not depend on the number of threads:
+///  - compute(): while the pieces are found, concurrently on every thread, turns a piece and its
+///    polyhedron (polygon; U / A = source cell, V / B = target cell) into values_per_piece()
+///    numbers. It must not change shared state. Not called when values_per_piece() is 0, and the
+///    polyhedra are then not built (the search runs as for a kept supermesh without them).
+///  - consume(): then every piece with its numbers, in (target, source) order (the order of
+///    Supermesh::pieces, with the same cell indices, volumes and moments bit for bit), on the
+///    thread that called supermesh().
+/// Held meanwhile: each piece's record (SupermeshPiece: 40 B in 3D, 32 B in 2D), its numbers,
+/// and 16 B to order them; never the polyhedra.
+template <class Piece, class Shape>
+class BasicPieceConsumer {
+ public:
+  virtual ~BasicPieceConsumer() = default;
+  virtual std::size_t values_per_piece() const { return 0; }
+  virtual void compute(const Piece& piece, const Shape& shape, double* values) const {
+    (void)piece, (void)shape, (void)values;
+  }
+  virtual void consume(const Piece& piece, const double* values) = 0;
+};
+using PieceConsumer = BasicPieceConsumer<SupermeshPiece, Polyhedron>;
+using PieceConsumer2 = BasicPieceConsumer<SupermeshPiece2, Polygon>;
+
+/// What a supermesh handed to a consumer reports (as Supermesh's members of the same names).
+struct SupermeshSummary {
+  std::size_t pieces = 0;
+  std::size_t candidates = 0;
+  double seconds = 0.0;
+};
+
+/// The supermesh handed to a consumer instead of kept: the same pieces as supermesh(source,
+/// target, options), in its order. options.keep_polyhedra and keep_mixed_mass must be false
+/// (std::invalid_argument otherwise): the consumer computes what it keeps.
+SupermeshSummary supermesh(const TetMesh& source, const TetMesh& target, PieceConsumer& consumer,
+                           const SupermeshOptions& options = {});
+SupermeshSummary supermesh(const TriMesh& source, const TriMesh& target, PieceConsumer2& consumer,
+                           const SupermeshOptions& options = {});
+
 /// The supermesh per pair of file cells (the cells of the files the meshes came from: a split
 /// hexahedron's tetrahedra together, tetia/file_cells.hpp). pairs[i].source and .target are
 /// file cell indices (TetMesh::file_cell), .volume and .first the compensated sums over the
