@@ -8,6 +8,7 @@
 #include <muParser.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -17,6 +18,7 @@
 #include <fstream>
 #include <functional>
 #include <memory>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -45,6 +47,8 @@ struct Kind<TetMesh> {
   static constexpr int dim = 3;
   using Point = Vec3;
   using Result = Supermesh;
+  using Piece = SupermeshPiece;
+  using Loads = P1Loads;
   static constexpr const char* measure = "volume";  // the JSON keys' suffix
   static constexpr const char* cells = "tetrahedra";
   static const std::vector<double>& measures(const TetMesh& m) { return m.volumes; }
@@ -57,6 +61,8 @@ struct Kind<TriMesh> {
   static constexpr int dim = 2;
   using Point = Vec2;
   using Result = Supermesh2;
+  using Piece = SupermeshPiece2;
+  using Loads = P1Loads2;
   static constexpr const char* measure = "area";
   static constexpr const char* cells = "triangles";
   static const std::vector<double>& measures(const TriMesh& m) { return m.areas; }
@@ -140,27 +146,32 @@ std::array<double, 2> bary_tail(const Triangle& t, Vec2 c) {
 // piece's volume, or a P1 field (linear on the source cell) at the piece's centroid times its
 // volume, which is exact for a linear function.
 template <class Mesh>
+void add_overlap(detail::CompensatedSum& sum, const Mesh& source, const typename Kind<Mesh>::Piece& p,
+                 const std::vector<double>& v, int order) {
+  const double m = Kind<Mesh>::measure_of(p);
+  if (order == 0) {
+    sum.add(v[static_cast<std::size_t>(p.source)] * m);
+    return;
+  }
+  if (!(m > 0.0)) return;
+  const auto c = (1.0 / m) * p.first;
+  const auto& n = source.cells[static_cast<std::size_t>(p.source)];
+  const auto l = bary_tail(source.cell(static_cast<std::size_t>(p.source)), c);
+  double rest = 1.0, value = 0.0;
+  for (std::size_t k = 0; k < l.size(); ++k) {
+    rest -= l[k];
+    value += l[k] * v[static_cast<std::size_t>(n[k + 1])];
+  }
+  sum.add(m * (rest * v[static_cast<std::size_t>(n[0])] + value));
+}
+
+template <class Mesh>
 double overlap_integral(const typename Kind<Mesh>::Result& s, const std::vector<double>& v, int order) {
   detail::CompensatedSum sum;
-  for (const auto& p : s.pieces) {
-    const double m = Kind<Mesh>::measure_of(p);
-    if (order == 0) {
-      sum.add(v[static_cast<std::size_t>(p.source)] * m);
-      continue;
-    }
-    if (!(m > 0.0)) continue;
-    const auto c = (1.0 / m) * p.first;
-    const auto& n = s.source->cells[static_cast<std::size_t>(p.source)];
-    const auto l = bary_tail(s.source->cell(static_cast<std::size_t>(p.source)), c);
-    double rest = 1.0, value = 0.0;
-    for (std::size_t k = 0; k < l.size(); ++k) {
-      rest -= l[k];
-      value += l[k] * v[static_cast<std::size_t>(n[k + 1])];
-    }
-    sum.add(m * (rest * v[static_cast<std::size_t>(n[0])] + value));
-  }
+  for (const auto& p : s.pieces) add_overlap(sum, *s.source, p, v, order);
   return sum.value();
 }
+
 
 // Output files named *.msh are Gmsh's format (write_msh: the file's cells and tags, the fields as
 // node and element data); any other name is VTU.
@@ -431,6 +442,110 @@ int supermesh_command(const SupermeshCommand& cmd, const Mesh& source, const Mes
   return exit_ok;
 }
 
+// What remap_command takes from the supermesh: per component, the remapped values (per target
+// cell for P0, per node for P1) and the source integral over the overlap; the largest CG
+// iteration count; and the supermesh's counts.
+struct Remapped {
+  std::vector<std::vector<double>> values;
+  std::vector<double> overlap;
+  int iterations = 0;
+  std::size_t pairs = 0, pieces = 0;  // of file cells, of simplices
+  double total = 0.0, seconds = 0.0;  // intersection measure, supermesh time
+};
+
+// P1 without keeping the supermesh (tetia::P1Loads): besides the loads, the pieces handed over
+// (in the order of a kept supermesh's pieces) give what the kept path takes from the pieces,
+// with the same sums in the same order: the intersection measure, the overlap integrals, and
+// the pairs of file cells (a target file cell's pieces are consecutive, as file_cell_pairs
+// relies on too).
+template <class Mesh>
+class StreamedP1 final : public Kind<Mesh>::Loads {
+  using Piece = typename Kind<Mesh>::Piece;
+
+ public:
+  StreamedP1(const Mesh& source, const Mesh& target, const std::vector<std::vector<double>>& components)
+      : Kind<Mesh>::Loads(source, target, std::vector<std::span<const double>>(components.begin(), components.end())),
+        source_(source), target_(target), components_(components), overlap_(components.size()) {}
+  void consume(const Piece& p, const double* values) override {
+    Kind<Mesh>::Loads::consume(p, values);
+    total_.add(Kind<Mesh>::measure_of(p));
+    for (std::size_t c = 0; c < components_.size(); ++c) add_overlap(overlap_[c], source_, p, components_[c], 1);
+    const std::size_t tf = target_.file_cell(static_cast<std::size_t>(p.target));
+    if (tf != run_target_) flush(tf);
+    run_sources_.push_back(source_.file_cell(static_cast<std::size_t>(p.source)));
+  }
+  // After the supermesh: the counts and sums into r.
+  void finish(Remapped& r) {
+    flush(0);
+    r.pairs = pairs_;
+    r.total = total_.value();
+    for (const auto& o : overlap_) r.overlap.push_back(o.value());
+  }
+
+ private:
+  void flush(std::size_t next_target) {  // the pairs of the target file cell run just ended
+    std::sort(run_sources_.begin(), run_sources_.end());
+    pairs_ += static_cast<std::size_t>(std::unique(run_sources_.begin(), run_sources_.end()) - run_sources_.begin());
+    run_sources_.clear();
+    run_target_ = next_target;
+  }
+  const Mesh& source_;
+  const Mesh& target_;
+  const std::vector<std::vector<double>>& components_;
+  std::vector<detail::CompensatedSum> overlap_;
+  detail::CompensatedSum total_;
+  std::size_t run_target_ = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> run_sources_;
+  std::size_t pairs_ = 0;
+};
+
+// Every component remapped: by P1 loads handed the pieces (P1 without --matrix, one process),
+// else from a kept supermesh (P0; P1 with --matrix, which needs the pieces' matrices; several
+// MPI ranks, whose pieces are gathered), with the same results bit for bit.
+template <class Mesh>
+Remapped remap_components(const RemapCommand& cmd, const Mesh& source, const Mesh& target,
+                          const std::vector<std::vector<double>>& components) {
+  using K = Kind<Mesh>;
+  SupermeshOptions options;
+  options.threads = cmd.threads;
+  options.progress = intersection_progress(source.num_cells());
+  Remapped r;
+  if (cmd.order == 1 && cmd.matrix.empty() && (K::dim == 2 || mpi_ranks() == 1)) {
+    StreamedP1<Mesh> loads(source, target, components);
+    const SupermeshSummary sum = supermesh(source, target, loads, options);
+    loads.finish(r);
+    r.pieces = sum.pieces;
+    r.seconds = sum.seconds;
+    progress("solve");
+    for (std::size_t c = 0; c < components.size(); ++c) {
+      P1RemapReport report;
+      r.values.push_back(solve_p1(target, loads.loads()[c], &report));
+      r.iterations = std::max(r.iterations, report.iterations);
+    }
+    return r;
+  }
+  // P1 (and its --matrix) needs each piece's local mixed mass matrix, not the polyhedron itself.
+  options.keep_mixed_mass = cmd.order == 1;
+  const auto s = parallel_supermesh(borrow(source), borrow(target), options, cmd.partition);
+  const auto pairs = file_cell_pairs(s);
+  progress(cmd.order == 0 ? "remap" : "solve");
+  if (!cmd.matrix.empty()) {
+    if (cmd.order == 0) write_p0_matrix(cmd.matrix, s, pairs, K::measure);
+    else write_mixed_mass_matrix(s, cmd.matrix);
+  }
+  for (const auto& component : components) {
+    P1RemapReport report;
+    r.values.push_back(cmd.order == 0 ? remap_p0(s, component) : remap_p1(s, component, &report));
+    r.iterations = std::max(r.iterations, report.iterations);
+    r.overlap.push_back(overlap_integral<Mesh>(s, component, cmd.order));
+  }
+  r.pairs = pairs.pairs.size();
+  r.pieces = s.pieces.size();
+  r.total = K::total(s);
+  r.seconds = s.seconds;
+  return r;
+}
+
 template <class Mesh>
 int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& target, std::vector<Field>&& fields,
                   const std::string& extra) {
@@ -454,40 +569,34 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
   } else {
     for (Field& field : fields) inputs.push_back({field.name, field.components, std::move(field.values)});
   }
-  SupermeshOptions options;
-  options.threads = cmd.threads;
-  // P1 (and its --matrix) needs each piece's local mixed mass matrix, not the polyhedron itself.
-  options.keep_mixed_mass = cmd.order == 1;
-  options.progress = intersection_progress(source.num_cells());
-  const auto s = parallel_supermesh(borrow(source), borrow(target), options, cmd.partition);
-  const auto pairs = file_cell_pairs(s);
-  progress(cmd.order == 0 ? "remap" : "solve");
-  if (!cmd.matrix.empty()) {
-    if (cmd.order == 0) write_p0_matrix(cmd.matrix, s, pairs, K::measure);
-    else write_mixed_mass_matrix(s, cmd.matrix);
-  }
   // Every component remapped on its own (one solve each for P1); integrals and conservation
   // per component. Every number is formatted before anything is printed (num() fails on one
   // that is not finite), then one line of JSON.
-  P1RemapReport report;
+  std::vector<std::vector<double>> components;
+  for (const Input& in : inputs) {
+    const auto nc = static_cast<std::size_t>(in.components);
+    for (std::size_t k = 0; k < nc; ++k) {
+      std::vector<double>& component = components.emplace_back(in.values.size() / nc);
+      for (std::size_t i = 0; i < component.size(); ++i) component[i] = in.values[i * nc + k];
+    }
+  }
+  Remapped remapped = remap_components(cmd, source, target, components);
+  std::size_t next_component = 0;
   std::vector<Field> cell_data, point_data;
   std::string fields_json;
   double first[4] = {0, 0, 0, 0};  // source, overlap, target integral, conservation: the first component
   std::vector<double> first_out;
   for (const Input& in : inputs) {
     const auto nc = static_cast<std::size_t>(in.components);
-    const std::size_t n_src = in.values.size() / nc;
     // P0 results are per file cell of the target (a hexahedron's value is the volume-weighted
     // average of its tetrahedra's, which is the projection onto constants per hexahedron).
     const std::size_t n_tgt = cmd.order == 0 ? target.num_file_cells() : target.num_nodes();
     std::vector<double> out(n_tgt * nc);
     std::string ints[4];
     for (std::size_t k = 0; k < nc; ++k) {
-      std::vector<double> component(n_src);
-      for (std::size_t i = 0; i < n_src; ++i) component[i] = in.values[i * nc + k];
-      P1RemapReport r;
-      std::vector<double> result = cmd.order == 0 ? remap_p0(s, component) : remap_p1(s, component, &r);
-      report.iterations = std::max(report.iterations, r.iterations);
+      const std::size_t c = next_component++;
+      const std::vector<double>& component = components[c];
+      std::vector<double> result = std::move(remapped.values[c]);
       if (cmd.order == 0 && !target.cell_origin.empty()) {
         const std::vector<double> per_file_cell = file_cell_average(target, result);
         for (std::size_t i = 0; i < n_tgt; ++i) out[i * nc + k] = per_file_cell[i];
@@ -499,7 +608,7 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
       // whole source integral when the domains coincide).
       const double src_int = integral(source, component, cmd.order);
       const double tgt_int = integral(target, result, cmd.order);
-      const double overlap_int = overlap_integral<Mesh>(s, component, cmd.order);
+      const double overlap_int = remapped.overlap[c];
       const double conservation = std::abs(tgt_int - overlap_int) / std::max(std::abs(overlap_int), 1e-300);
       const double values[4] = {src_int, overlap_int, tgt_int, conservation};
       static const char* const kWhat[4] = {"source integral", "overlap integral", "target integral",
@@ -527,7 +636,7 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
   }
   const std::string m = K::measure;
   const std::string totals[3] = {num(K::total(source), "source total"), num(K::total(target), "target total"),
-                                 num(K::total(s), "intersection total")};
+                                 num(remapped.total, "intersection total")};
   const std::string integrals[3] = {num(first[0], "source integral"), num(first[1], "overlap integral"),
                                     num(first[2], "target integral")};
   const std::string conservation_text = num(first[3], "conservation error");
@@ -552,10 +661,10 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
       "\"conservation_error\": %s, \"l2_error\": %s, \"relative_l2_error\": %s, \"cg_iterations\": %d, "
       "\"fields\": [%s]%s, \"seconds\": %.6f}\n",
       K::dim, cmd.order, source.num_file_cells(), target.num_file_cells(), simplices_json(source, target).c_str(),
-      pairs.pairs.size(), s.pieces.size(), m.c_str(), totals[0].c_str(),
+      remapped.pairs, remapped.pieces, m.c_str(), totals[0].c_str(),
       m.c_str(), totals[1].c_str(), m.c_str(), totals[2].c_str(), integrals[0].c_str(), integrals[1].c_str(),
-      integrals[2].c_str(), conservation_text.c_str(), l2[0].c_str(), l2[1].c_str(), report.iterations,
-      fields_json.c_str(), extra.c_str(), s.seconds);
+      integrals[2].c_str(), conservation_text.c_str(), l2[0].c_str(), l2[1].c_str(), remapped.iterations,
+      fields_json.c_str(), extra.c_str(), remapped.seconds);
   return exit_ok;
 }
 

@@ -20,9 +20,12 @@
 //     thread count: supermesh wall and CPU time (best of --reps), its peak memory (first run,
 //     result alive), then remap_p1 of sin(3x) cos(2y) exp(z) from that result (one run; its
 //     time and peak over what was resident before it, the supermesh included); for
-//     reference also the supermesh keeping neither (pieces only: what P0 needs). The
-//     two ways must give the same remapped values bit for bit (else exit 1). Not part of the
-//     default run: --parts=p1 (with --max-cells=1e5 for pyramid x cube and boxes to 10^5).
+//     reference also the supermesh keeping neither (pieces only: what P0 needs). "streamed" is
+//     P1 remap without keeping the supermesh (tetia::P1Loads handed the pieces, then
+//     tetia::solve_p1): the supermesh's time and peak with the loads alive, then the solve's.
+//     Every way must give the same remapped values bit for bit (else exit 1). Not part of the
+//     default run: --parts=p1 (with --max-cells=1e5 for pyramid x cube and boxes to 10^5);
+//     --kept=none,streamed,mixed_mass,polyhedra chooses the ways (default all).
 //
 // Each case runs front and R-tree search on 1 and 2 threads, best wall time of --reps runs (one
 // run only once a run takes more than --long seconds). For each it prints wall and CPU time
@@ -97,6 +100,7 @@ struct Options {
   int reps = 3;
   double long_run = 10.0;
   bool pyramid = true, boxes = true, rect2d = false, p1 = false;
+  std::vector<std::string> kept{"none", "streamed", "mixed_mass", "polyhedra"};  // part p1
   bool file_order = true, morton_order = true;
   std::vector<int> threads{1, 2};
   fs::path extdata = fs::path(TETIA_SHARED_DIR) / "extdata";
@@ -106,7 +110,8 @@ struct Options {
 [[noreturn]] void usage(const char* msg) {
   std::fprintf(stderr,
                "bench_supermesh: %s\nusage: bench_supermesh [--max-cells=N] [--reps=R] [--long=S] "
-               "[--parts=pyramid,boxes,rect2d,p1] [--order=file,morton] [--threads=1,2] [--extdata=DIR] [--cache=DIR]\n",
+               "[--parts=pyramid,boxes,rect2d,p1] [--order=file,morton] [--threads=1,2] [--extdata=DIR] [--cache=DIR]\n"
+               "       [--kept=none,streamed,mixed_mass,polyhedra]\n",
                msg);
   std::exit(2);
 }
@@ -153,6 +158,10 @@ Options parse(int argc, char** argv) {
         o.threads.clear();
         for (const auto& t : split(val)) o.threads.push_back(std::max(1, std::stoi(t)));
         if (o.threads.empty()) usage("no thread counts");
+      } else if (key == "--kept") {
+        o.kept = split(val);
+        for (const auto& k : o.kept)
+          if (k != "none" && k != "streamed" && k != "mixed_mass" && k != "polyhedra") usage(("unknown kept " + k).c_str());
       } else if (key == "--extdata") {
         o.extdata = val;
       } else if (key == "--cache") {
@@ -440,19 +449,49 @@ struct P1Row {
   std::vector<double> remapped;
 };
 
-enum class Kept { none, mixed_mass, polyhedra };
+enum class Kept { none, streamed, mixed_mass, polyhedra };
+const char* kept_name(Kept k) {
+  return k == Kept::none ? "none" : k == Kept::streamed ? "streamed" : k == Kept::mixed_mass ? "mixed_mass" : "polyhedra";
+}
+
+// P1 remap without keeping the supermesh: the loads summed by a consumer, then the solve.
+P1Row measure_streamed(P1Row r, const tetia::TetMesh& src, const tetia::TetMesh& tgt, const tetia::SupermeshOptions& opt,
+                       const std::vector<double>& field) {
+  long long before = -1;
+  if (reset_peak_memory()) before = proc_status_bytes("VmRSS");
+  const double w0 = wall_now(), c0 = cpu_now();
+  tetia::P1Loads loads(src, tgt, {field});
+  const tetia::SupermeshSummary sum = tetia::supermesh(src, tgt, loads, opt);
+  r.wall = wall_now() - w0;
+  r.cpu = cpu_now() - c0;
+  r.runs = 1;
+  r.pieces = sum.pieces;
+  const long long peak = proc_status_bytes("VmHWM");
+  if (before >= 0 && peak >= 0) r.peak_extra = peak - before;
+  tetia::P1RemapReport report;
+  long long rbefore = -1;
+  if (reset_peak_memory()) rbefore = proc_status_bytes("VmRSS");
+  const double q0 = wall_now();
+  r.remapped = tetia::solve_p1(tgt, loads.loads()[0], &report);
+  r.remap_wall = wall_now() - q0;
+  const long long rpeak = proc_status_bytes("VmHWM");
+  if (rbefore >= 0 && rpeak >= 0) r.remap_peak_extra = rpeak - rbefore;
+  r.cg_iterations = report.iterations;
+  return r;
+}
 
 P1Row measure_p1(const std::string& label, const tetia::TetMesh& src, const tetia::TetMesh& tgt, Kept kept,
                  int threads, const std::vector<double>& field, const Options& o) {
   const bool mass = kept == Kept::mixed_mass;
   P1Row r;
   r.label = label;
-  r.kept = kept == Kept::none ? "none" : mass ? "mixed_mass" : "polyhedra";
+  r.kept = kept_name(kept);
   r.ns = src.num_cells();
   r.nt = tgt.num_cells();
   r.threads = threads;
   tetia::SupermeshOptions opt;
   opt.threads = threads;
+  if (kept == Kept::streamed) return measure_streamed(r, src, tgt, opt, field);
   opt.keep_mixed_mass = mass;
   opt.keep_polyhedra = kept == Kept::polyhedra;
   for (int rep = 0; rep < o.reps; ++rep) {
@@ -533,7 +572,8 @@ bool run_p1_case(const std::string& label, const tetia::TetMesh& src, const teti
   std::size_t pieces = 0;
   int compared = 0;
   for (const int th : o.threads)
-    for (const Kept kept : {Kept::none, Kept::mixed_mass, Kept::polyhedra}) {
+    for (const Kept kept : {Kept::none, Kept::streamed, Kept::mixed_mass, Kept::polyhedra}) {
+      if (std::find(o.kept.begin(), o.kept.end(), kept_name(kept)) == o.kept.end()) continue;
       // The polyhedra are held twice at the peak (per thread, then merged): skip that run when
       // it would not fit in the memory available now (the 10^6 boxes need about 85 GB).
       const double need = 2.0 * static_cast<double>(pieces) * static_cast<double>(sizeof(tetia::Polyhedron));
@@ -544,7 +584,7 @@ bool run_p1_case(const std::string& label, const tetia::TetMesh& src, const teti
         continue;
       }
       const P1Row r = measure_p1(label, src, tgt, kept, th, field, o);
-      pieces = r.pieces;
+      pieces = std::max(pieces, r.pieces);
       print_p1_row(r);
       if (kept == Kept::none) continue;
       ++compared;
@@ -556,7 +596,7 @@ bool run_p1_case(const std::string& label, const tetia::TetMesh& src, const teti
         ok = false;
       }
     }
-  std::printf("  %s: remap_p1 identical bit for bit over the %d runs that remapped (keep_mixed_mass, "
+  std::printf("  %s: remap_p1 identical bit for bit over the %d runs that remapped (streamed, keep_mixed_mass, "
               "keep_polyhedra; all thread counts): %s\n",
               label.c_str(), compared, ok ? "yes" : "NO");
   return ok;

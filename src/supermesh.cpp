@@ -83,8 +83,8 @@
 // so the result, including `candidates`, is the same bit for bit for any number of threads.
 // No allocation per pair: each thread keeps its buffers and its pieces until the final merge.
 //
-// Kept data: every candidate runs the fast kernel path (moments only); a positive piece then
-// also runs the full kernel when polyhedra (polygons) or mixed mass matrices are kept (the same
+// Kept data: where polyhedra, mixed mass matrices or a consumer's numbers are needed, the full
+// kernel runs (in 3D on every candidate, in 2D on each piece after the fast path; the same
 // moments bit for bit). keep_polyhedra stores the whole polyhedron (polygon) per piece;
 // keep_mixed_mass computes the piece's local mixed mass matrix from it while it is at hand
 // (src/mixed_mass.hpp, the function the remap uses on kept polyhedra) and stores only those 16
@@ -469,20 +469,22 @@ class Worker {
     if (!overlap_open(sbox_, box_of<Mesh>(T_))) return false;
     ++candidates_;
     const double floor = kResolution * std::min(svol_, rec.measure);
+    // Every entry point of the kernel gives the same moments bit for bit. In 3D what depends on
+    // s or t alone is computed once (OneToMany), and the kernel's facets tell which faces of t
+    // s may cross. The whole polyhedron (polygon) is needed where shapes, mixed mass matrices or
+    // a consumer's numbers are: in 3D one full kernel call then, with the same facets; in 2D
+    // the moments first, and the polygon only for a piece.
+    const bool shaped = sh_.keep_shapes || sh_.keep_mass || sh_.values_per_piece != 0;
     typename Dm::Moments m;
-    // The volume first, by the fast path (in 3D with what depends on s or t alone computed
-    // once); every entry point gives the same moments bit for bit.
     if constexpr (Dm::d == 3) {
       if (!one_) one_.emplace(S_);  // on the first candidate: many cells (outside the target) have none
-      m = one_->moments(T_, rec.conditioning, &crossed_);
+      m = shaped ? one_->intersect(T_, rec.conditioning, shape_, &crossed_) : one_->moments(T_, rec.conditioning, &crossed_);
     } else {
       m = intersection_moments(S_, T_);
     }
     if (!(Dm::measure(m) > floor)) return false;
-    if (sh_.keep_shapes || sh_.keep_mass || sh_.values_per_piece != 0) {
-      // The whole polyhedron (polygon) only for a piece: most candidates are empty, and their
-      // kernel calls stay on the fast path. Its moments are m, bit for bit.
-      shape_ = intersect(S_, T_);
+    if (shaped) {
+      if constexpr (Dm::d == 2) shape_ = intersect(S_, T_);
       if (sh_.values_per_piece != 0) {  // the consumer's numbers, from the piece with its cells' indices
         const std::size_t k = sh_.values_per_piece, at = values_.size();
         if (at + k > values_.capacity()) reserve_huge(values_, std::max<std::size_t>(1024 * k, 2 * values_.capacity()));

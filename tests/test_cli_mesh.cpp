@@ -43,6 +43,12 @@ double json_number(const std::string& json, const std::string& key) {
   return v;
 }
 
+// The JSON without its "seconds" (the one key that differs between runs).
+std::string without_seconds(const std::string& json) {
+  const auto at = json.find(", \"seconds\"");
+  return at == std::string::npos ? json : json.substr(0, at);
+}
+
 class CliMeshTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -229,6 +235,28 @@ TEST_F(CliMeshTest, RemapP1ReproducesALinearExpression) {
   const Result f = run("remap " + b_ + " " + a_ + " --field phi --order 1");
   ASSERT_EQ(f.status, 0) << f.err;
   EXPECT_NEAR(json_number(f.out, "target_integral"), 0.5, 1e-12);
+}
+
+TEST_F(CliMeshTest, RemapP1WithoutMatrixKeepsNoSupermeshAndPrintsTheSameNumbers) {
+  // Without --matrix, P1 sums its loads from pieces handed over (tetia::P1Loads) instead of a
+  // kept supermesh; with it, from the kept pieces' matrices. Every number printed and written
+  // must be the same, counts of file cell pairs included (hexahedra and prisms split).
+  const std::string hex = (dir_ / "hex.msh").string(), tet = (dir_ / "tet.msh").string();
+  std::ofstream(hex) << tetia::testsupport::grid_msh(3, true, true);
+  tetia::write_msh(tet, tetia::make_kuhn_mesh({4, 4, 4}, {0, 0, 0}, {0.75, 0.75, 0.75}));
+  for (const auto& [src, tgt] : {std::pair{hex, tet}, std::pair{tet, hex}, std::pair{b_, a_}})
+    for (const std::string field : {"--expr \"sin(x)*y + z\"", "--field phi"}) {
+      if (field == "--field phi" && src != b_) continue;
+      SCOPED_TRACE(src + " -> " + tgt + ", " + field);
+      const std::string common = "remap " + src + " " + tgt + " " + field + " --order 1 -o ";
+      const Result streamed = run(common + (dir_ / "streamed.vtu").string());
+      const Result kept = run(common + (dir_ / "kept.vtu").string() + " --matrix " + (dir_ / "m.mtx").string());
+      ASSERT_EQ(streamed.status, 0) << streamed.err;
+      ASSERT_EQ(kept.status, 0) << kept.err;
+      EXPECT_EQ(without_seconds(streamed.out), without_seconds(kept.out));
+      EXPECT_GT(json_number(streamed.out, "pairs"), 0);
+      EXPECT_EQ(tetia::testcli::read_file(dir_ / "streamed.vtu"), tetia::testcli::read_file(dir_ / "kept.vtu"));
+    }
 }
 
 TEST_F(CliMeshTest, BadInputGivesAClearErrorAndStatus2) {
@@ -527,6 +555,20 @@ TEST_F(CliMesh2DTest, RemapP1ReproducesALinearExpressionInXAndY) {
   ASSERT_EQ(e.status, 0) << e.err;
   EXPECT_GT(json_number(e.out, "l2_error"), 0.0);
   EXPECT_LT(json_number(e.out, "relative_l2_error"), 0.2);
+}
+
+TEST_F(CliMesh2DTest, RemapP1WithoutMatrixPrintsTheSameNumbers) {
+  // As in 3D: the loads from pieces handed over, or from a kept supermesh (--matrix).
+  for (const auto& [src, tgt] : {std::pair{a2_, b2_}, std::pair{b2_, a2_}}) {
+    SCOPED_TRACE(src + " -> " + tgt);
+    const std::string common = "remap " + src + " " + tgt + " --expr \"sin(x)*y\" --order 1 -o ";
+    const Result streamed = run(common + (dir_ / "streamed.vtu").string());
+    const Result kept = run(common + (dir_ / "kept.vtu").string() + " --matrix " + (dir_ / "m.mtx").string());
+    ASSERT_EQ(streamed.status, 0) << streamed.err;
+    ASSERT_EQ(kept.status, 0) << kept.err;
+    EXPECT_EQ(without_seconds(streamed.out), without_seconds(kept.out));
+    EXPECT_EQ(tetia::testcli::read_file(dir_ / "streamed.vtu"), tetia::testcli::read_file(dir_ / "kept.vtu"));
+  }
 }
 
 TEST_F(CliMesh2DTest, MixedDimensionsAndFilesWithoutCellsAreErrors) {

@@ -425,9 +425,19 @@ void run_family(const char* name) {
       if (const std::string d = same_polyhedron(intersect(A, B), P); !d.empty())
         what += (what.empty() ? "" : "; ") + ("intersect() without statistics differs: " + d);
       // The supermesh's one-to-many path (A prepared once) gives the same bits.
-      const Moments om = detail::OneToMany(A).moments(B, detail::conditioning(B));
+      const detail::OneToMany one(A);
+      const Moments om = one.moments(B, detail::conditioning(B));
       if (om.volume != v || !(om.first == P.moments().first))
         what += (what.empty() ? "" : "; ") + ("OneToMany::moments " + fmt(om.volume) + " differs from intersect()");
+      // Its full path (the supermesh's, where shapes are needed): the same polyhedron, and for an
+      // empty one zero moments.
+      Polyhedron OP;
+      const Moments oi = one.intersect(B, detail::conditioning(B), OP);
+      if (oi.volume != v || !(oi.first == P.moments().first))
+        what += (what.empty() ? "" : "; ") + ("OneToMany::intersect " + fmt(oi.volume) + " differs from intersect()");
+      else if (!P.empty())
+        if (const std::string d = same_polyhedron(OP, P); !d.empty())
+          what += (what.empty() ? "" : "; ") + ("OneToMany::intersect's polyhedron differs: " + d);
       if (!what.empty())
         fails.add(c, i, std::string(role) + ": " + what, A, B, st,
                   "volume " + fmt(v) + ", corners " + std::to_string(P.num_corners()) +

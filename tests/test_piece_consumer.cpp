@@ -2,7 +2,8 @@
 // (supermesh(source, target, consumer, options), tetia/supermesh.hpp) and P1 remap through it
 // (P1Loads, solve_p1, remap_p1 from two meshes, tetia/remap.hpp). Checked in 3D and 2D, with
 // the front and the R-tree, on 1 and 2 threads: the consumer gets exactly the kept supermesh's
-// pieces in its order, bit for bit; compute() sees each piece's own polyhedron (polygon); the
+// pieces in its order, bit for bit (and those of a supermesh that keeps nothing, with the same
+// candidates); compute() sees each piece's own polyhedron (polygon); the
 // P1 loads and remapped fields are bit for bit those of remap_p1 on a supermesh kept with its
 // mixed mass matrices; bad arguments are errors.
 #include <gtest/gtest.h>
@@ -105,6 +106,12 @@ void check_pieces(const Pair<Mesh>& pair) {
       kept.keep_polyhedra = true;
       const auto s = tetia::supermesh(pair.source, pair.target, kept);
       ASSERT_GT(s.pieces.size(), 0u);
+      // The full kernel (for the shapes) finds the pieces of the fast one, bit for bit, with the
+      // same candidates (its facets guide the front as the fast path's do).
+      const auto plain = tetia::supermesh(pair.source, pair.target, o);
+      ASSERT_EQ(plain.pieces.size(), s.pieces.size());
+      EXPECT_EQ(plain.candidates, s.candidates);
+      for (std::size_t k = 0; k < s.pieces.size(); ++k) ASSERT_TRUE(same_piece(plain.pieces[k], s.pieces[k])) << k;
       for (const bool with_values : {false, true}) {
         Recorder<Piece, Shape> r;
         r.with_values = with_values;

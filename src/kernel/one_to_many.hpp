@@ -1,7 +1,8 @@
-// src/kernel/one_to_many.hpp -- the moments of the intersection of one tetrahedron with many
-// (internal to the library; the supermesh uses it for each source cell).
+// src/kernel/one_to_many.hpp -- the moments, or the polyhedron, of the intersection of one
+// tetrahedron with many (internal to the library; the supermesh uses it for each source cell).
 //
-// Contract: OneToMany(S).moments(T, conditioning(T)) is intersection_moments(S, T), bit for bit.
+// Contract: OneToMany(S).moments(T, conditioning(T)) is intersection_moments(S, T), and
+// OneToMany(S).intersect(T, conditioning(T), P) makes P intersect(S, T), bit for bit.
 // What depends on S alone (its conditioning, and its barycentric map, used whenever S is the
 // better-conditioned of the pair and so the reference) is computed once, by the constructor;
 // what depends on T alone, by conditioning(T), which the caller may compute once per T. The
@@ -54,6 +55,10 @@ class OneToMany {
   /// of its map and of the kernel's labels, to be certain.
   static constexpr unsigned kPlanesTested = 0x10;
   Moments moments(const Tet& t, const Conditioning& ct, unsigned* t_faces = nullptr) const;
+  /// out = intersect(s, t) bit for bit, with t_faces as for moments(); returns out's moments
+  /// (those of moments()). Where the intersection is empty, returns zero moments and leaves
+  /// `out` as it was (no 2 KB to clear for each empty candidate).
+  Moments intersect(const Tet& t, const Conditioning& ct, Polyhedron& out, unsigned* t_faces = nullptr) const;
 
   /// s's barycentric map, and whether the signs of its coordinates are certain (the sign of s's
   /// det6 is: quality above kSignCertainQuality).

@@ -114,6 +114,19 @@ Moments exact_moments(const Tet& U, const Tet& V) {
   return x.moments;
 }
 
+// The faces of t on which the polytope has a facet: labels 4-7 (planes of Y) when t was the
+// reference, 0-3 (faces of X) when s was. Where int(s) crosses the interior of t's face k, a
+// small ball around the crossing lies in s and half of it in t, so s n t has a facet on that
+// face; without one, no path inside s crosses it. The labels are trusted only when the sign of
+// the reference's det6, and so of its map, is certain (kSignCertainQuality).
+unsigned faces_with_facets(const Frame& fr, const KernelResult& res, bool ok, double quality_s, double quality_t) {
+  if (!ok || res.num_corners == 0 || !((fr.swapped ? quality_s : quality_t) > kSignCertainQuality)) return 0xFu;
+  const int base = fr.swapped ? 0 : 4;
+  unsigned faces = 0;
+  for (int k = 0; k < 4; ++k) faces |= unsigned(res.on_plane[base + k] != 0) << k;
+  return faces | OneToMany::kPlanesTested;
+}
+
 Moments OneToMany::moments(const Tet& t, const Conditioning& ct, unsigned* t_faces) const {
   Frame fr;
   KernelResult res;
@@ -125,22 +138,24 @@ Moments OneToMany::moments(const Tet& t, const Conditioning& ct, unsigned* t_fac
     return intersection_moments(s_, t);
   }
   const bool ok = outcome == Outcome::kernel;
-  if (t_faces) {
-    // The faces of t on which the polytope has a facet: labels 4-7 (planes of Y) when t was the
-    // reference, 0-3 (faces of X) when s was. Where int(s) crosses the interior of t's face k,
-    // a small ball around the crossing lies in s and half of it in t, so s n t has a facet on
-    // that face; without one, no path inside s crosses it. The labels are trusted only when the
-    // sign of the reference's det6, and so of its map, is certain (kSignCertainQuality).
-    *t_faces = 0xFu;
-    if (ok && res.num_corners > 0 && (fr.swapped ? cs_.quality : ct.quality) > kSignCertainQuality) {
-      const int base = fr.swapped ? 0 : 4;
-      unsigned faces = 0;
-      for (int k = 0; k < 4; ++k) faces |= unsigned(res.on_plane[base + k] != 0) << k;
-      *t_faces = faces | kPlanesTested;
-    }
-  }
+  if (t_faces) *t_faces = faces_with_facets(fr, res, ok, cs_.quality, ct.quality);
   if (!ok || original_volume(fr, res) == 0.0) return {};  // +0 moments, as intersection_moments
   return original_moments(fr, res);
+}
+
+Moments OneToMany::intersect(const Tet& t, const Conditioning& ct, Polyhedron& out, unsigned* t_faces) const {
+  Frame fr;
+  KernelResult res;
+  const auto make = [&](Frame& f, bool other) { return frame_from(s_, cs_, &map_, t, ct, f, other); };
+  const Outcome outcome = solve_with<true, true>(make, fr, res, nullptr);
+  const bool ok = outcome == Outcome::kernel;
+  if (t_faces) *t_faces = faces_with_facets(fr, res, ok, cs_.quality, ct.quality);
+  if (outcome == Outcome::empty || (ok && res.num_corners == 0)) return {};  // `out` untouched
+  // The kernel's polytope as the pairwise entry point fills it; the rest (rescaled, exact, or
+  // facets that do not orient) as the pairwise entry point computes it, bit for bit.
+  if (!ok || !PolyhedronBuilder::fill(out, fr, res, false, 0)) [[unlikely]]
+    out = tetia::intersect(s_, t);
+  return out.moments();
 }
 
 KernelEstimate kernel_estimate(const Tet& U, const Tet& V) {
