@@ -7,7 +7,7 @@
 // written by write_msh (tags 1..N and 1..M) that is the order of the file, and of the mesh that
 // was written.
 //
-// Both dimensions share every function here (templates over the mesh type, src/dimension.hpp);
+// Both dimensions share every function here (templates over the mesh type, src/mesh/mesh_dim.hpp);
 // only the Gmsh and VTK element types and the plane check of 2D files differ.
 #include "tetia/io.hpp"
 
@@ -36,7 +36,7 @@
 #include <utility>
 #include <vector>
 
-#include "dimension.hpp"
+#include "mesh/mesh_dim.hpp"
 #include "io/gmsh_module.hpp"
 #include "io/gmsh_reader.hpp"
 #include "io/mesh_assembly.hpp"
@@ -165,7 +165,7 @@ void check_fields(const std::string& name, const std::vector<Field>& fields, std
 
 template <class Mesh>
 void check_mesh(const std::string& name, const Mesh& mesh) {
-  if (mesh.cells.empty()) fail(name, std::string("no ") + detail::Dim<Mesh>::cells_word + " to write");
+  if (mesh.cells.empty()) fail(name, std::string("no ") + detail::MeshDim<Mesh>::cells_word + " to write");
   const auto n = static_cast<std::int64_t>(mesh.nodes.size());
   for (std::size_t c = 0; c < mesh.cells.size(); ++c)
     for (const auto idx : mesh.cells[c])
@@ -318,7 +318,7 @@ std::vector<std::int64_t> ids_or_positions(const std::vector<std::int64_t>& tags
 template <class Mesh>
 void vtu(const std::filesystem::path& file, const Mesh& mesh, const std::vector<Field>& cell_data,
          const std::vector<Field>& point_data, const VtuOptions& options) {
-  using Dm = detail::Dim<Mesh>;
+  using Dm = detail::MeshDim<Mesh>;
   const std::string name = file.string();
   check_mesh(name, mesh);
   // A mesh with split file cells is written as the file's cells (hexahedra, prisms, pyramids,
@@ -432,7 +432,7 @@ void vtu(const std::filesystem::path& file, const Mesh& mesh, const std::vector<
 template <class Mesh>
 void msh(const std::filesystem::path& file, const Mesh& mesh, const std::vector<Field>& cell_data,
          const std::vector<Field>& point_data) {
-  using Dm = detail::Dim<Mesh>;
+  using Dm = detail::MeshDim<Mesh>;
   const std::string name = file.string();
   check_mesh(name, mesh);
   // A mesh with split file cells is written as the file's cells, one element block per type.

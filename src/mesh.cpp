@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "compensated_sum.hpp"
-#include "dimension.hpp"
+#include "mesh/mesh_dim.hpp"
 #include "mesh/check_file_cells.hpp"
 
 namespace tetia {
@@ -55,7 +55,7 @@ double signed_measure_of(const typename D::Cell& cell) {
 // depend on it (facet k of a cell is the one without its vertex k in either).
 template <class Mesh>
 void finalize_mesh(Mesh& m, const std::string& name) {
-  using D = detail::Dim<Mesh>;
+  using D = detail::MeshDim<Mesh>;
   constexpr std::size_t nv = D::nv;
   if (m.cells.empty()) fail(name, std::string("no ") + D::cells_word);
   const auto n = static_cast<std::int64_t>(m.nodes.size());

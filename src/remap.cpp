@@ -2,11 +2,11 @@
 // with the mixed mass matrix integrated exactly on each piece's simplices (tetrahedra of a
 // polyhedron, triangles of a polygon's fan).
 //
-// One implementation for both dimensions: templates over the mesh type (src/dimension.hpp).
+// One implementation for both dimensions: templates over the mesh type (src/supermesh/dimension.hpp).
 // The products of two linear functions on a simplex of dimension d integrate to
 // |S| / ((d + 1)(d + 2)) (sum_v f_v g_v + (sum_v f_v)(sum_v g_v)): 1/20 in 3D, 1/12 in 2D; the
 // consistent mass matrix is the case f = g = basis functions. A piece's local mixed mass matrix
-// is computed in src/mixed_mass.hpp (shared with the supermesh, which can keep it instead of
+// is computed in src/supermesh/mixed_mass.hpp (shared with the supermesh, which can keep it instead of
 // the polyhedron: SupermeshOptions::keep_mixed_mass); the quadrature rule is written per
 // dimension here.
 #include "tetia/remap.hpp"
@@ -24,7 +24,7 @@
 #include <Eigen/SparseCore>
 
 #include "compensated_sum.hpp"
-#include "dimension.hpp"
+#include "supermesh/dimension.hpp"
 #include "remap/assembly.hpp"
 
 namespace tetia {

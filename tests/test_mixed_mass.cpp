@@ -2,7 +2,7 @@
 // local mixed mass matrix instead of its polyhedron (polygon). Checked, in 3D and 2D, on
 // identical, half-offset structured, jittered non-matching and Gmsh mesh pairs: the kept
 // matrices are bit for bit what the remap computes from kept polyhedra (the same function,
-// src/mixed_mass.hpp, applied here to the kept shapes), the pieces are those of keep_polyhedra,
+// src/supermesh/mixed_mass.hpp, applied here to the kept shapes), the pieces are those of keep_polyhedra,
 // 1 and 2 threads agree bit for bit, remap_p1 and the Matrix Market file are identical from
 // either kept form (and through the CLI), and what is stored per piece is about 1/18 (3D) of
 // a polyhedron.
@@ -23,7 +23,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "../src/mixed_mass.hpp"  // the per-piece computation the remap uses (internal)
+#include "../src/supermesh/mixed_mass.hpp"  // the per-piece computation the remap uses (internal)
 #include "support/cli.hpp"
 #include "tetia/io.hpp"
 #include "tetia/mesh.hpp"

@@ -36,7 +36,7 @@
 #include <utility>
 #include <vector>
 
-#include "../dimension.hpp"
+#include "../mesh/mesh_dim.hpp"
 #include "mesh_assembly.hpp"
 
 namespace tetia {
@@ -173,7 +173,7 @@ class GmshSession {
 // session, after a mesh was loaded or generated.
 template <class Mesh>
 Extracted<Mesh> extract(GmshSession& s) {
-  using Dm = detail::Dim<Mesh>;
+  using Dm = detail::MeshDim<Mesh>;
   constexpr std::size_t nv = Dm::nv;
   constexpr int kType = GmshCell<Mesh>::type;
   Extracted<Mesh> ex;
@@ -350,7 +350,7 @@ void load(GmshSession& s, const fs::path& file) {
 // refused before Gmsh spends hours on it.
 template <class Mesh, class AddShape>
 Mesh generate(const std::string& name, double h, double measure, AddShape&& add_shape) {
-  constexpr int dim = detail::Dim<Mesh>::d;
+  constexpr int dim = detail::MeshDim<Mesh>::d;
   if (!(h > 0.0) || !std::isfinite(h))
     throw std::invalid_argument("tetia: " + name + ": element size must be positive");
   // A regular tetrahedron of edge h has volume h^3 / (6 sqrt 2) ~ h^3 / 8.5; an equilateral
@@ -381,7 +381,7 @@ Mesh generate(const std::string& name, double h, double measure, AddShape&& add_
     });
     ex = extract<Mesh>(s);
   }
-  if (ex.mesh.cells.empty()) fail(name, std::string("Gmsh produced no ") + detail::Dim<Mesh>::cells_word);
+  if (ex.mesh.cells.empty()) fail(name, std::string("Gmsh produced no ") + detail::MeshDim<Mesh>::cells_word);
   finalize(ex.mesh, name);
   return std::move(ex.mesh);
 }

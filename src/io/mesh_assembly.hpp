@@ -17,7 +17,7 @@
 #include <unordered_set>
 #include <vector>
 
-#include "../dimension.hpp"
+#include "../mesh/mesh_dim.hpp"
 #include "tetia/io.hpp"
 #include "tetia/mesh.hpp"
 
@@ -218,7 +218,7 @@ using tetia::kOnlyStep;  // field_values' default step (tetia/io.hpp)
 
 template <class Mesh>
 std::string no_cells_message(const Extracted<Mesh>& ex) {
-  const std::string cells = detail::Dim<Mesh>::cells_word;
+  const std::string cells = detail::MeshDim<Mesh>::cells_word;
   std::string m = "no " + cells;
   if (ex.higher_order > 0)
     m += " of first order (" + std::to_string(ex.higher_order) + " higher-order cells"

@@ -14,7 +14,7 @@ namespace tetia::detail {
 
 template <class Mesh>
 Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool corner_nodes) {
-  using Dm = Dim<Mesh>;
+  using Dm = MeshDim<Mesh>;
   constexpr std::size_t nv = Dm::nv;
   // Each kept type, and with corner_nodes its higher orders by their corners (first order first).
   std::array<MshCells, 5> merged;

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "../dimension.hpp"
+#include "mesh_dim.hpp"
 #include "tetia/mesh.hpp"
 
 namespace tetia::detail {
@@ -32,7 +32,7 @@ std::string file_cells_problem(const Mesh& m) {
   std::size_t expected = 0;
   for (std::size_t f = 0; f < m.origin_types.size(); ++f) {
     const int t = m.origin_types[f];
-    const bool ok = Dim<Mesh>::d == 3 ? (t >= 4 && t <= 7) : (t == 2 || t == 3);
+    const bool ok = MeshDim<Mesh>::d == 3 ? (t >= 4 && t <= 7) : (t == 2 || t == 3);
     if (!ok)
       return "file cell " + std::to_string(m.origin_tags[f]) + ": element type " + std::to_string(t) +
              " is not a cell of this dimension";

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "../compensated_sum.hpp"
-#include "../dimension.hpp"
+#include "mesh_dim.hpp"
 
 namespace tetia {
 namespace {
@@ -22,9 +22,9 @@ void check_size(const char* what, std::size_t got, std::size_t expected) {
 
 template <class Mesh>
 std::vector<double> measures_of(const Mesh& m) {
-  if (m.cell_origin.empty()) return detail::Dim<Mesh>::measures(m);
+  if (m.cell_origin.empty()) return detail::MeshDim<Mesh>::measures(m);
   std::vector<detail::CompensatedSum> sums(m.num_file_cells());
-  for (std::size_t c = 0; c < m.num_cells(); ++c) sums[m.file_cell(c)].add(detail::Dim<Mesh>::measures(m)[c]);
+  for (std::size_t c = 0; c < m.num_cells(); ++c) sums[m.file_cell(c)].add(detail::MeshDim<Mesh>::measures(m)[c]);
   std::vector<double> out(sums.size());
   for (std::size_t f = 0; f < sums.size(); ++f) out[f] = sums[f].value();
   return out;
@@ -38,7 +38,7 @@ std::vector<double> average_of(const Mesh& m, const std::vector<double>& values,
   check_size("file_cell_average: simplex values", values.size(), m.num_cells() * nc);
   if (!weights.empty()) check_size("file_cell_average: weights", weights.size(), m.num_cells());
   if (m.cell_origin.empty()) return values;
-  const std::vector<double>& w = weights.empty() ? detail::Dim<Mesh>::measures(m) : weights;
+  const std::vector<double>& w = weights.empty() ? detail::MeshDim<Mesh>::measures(m) : weights;
   const std::size_t n = m.num_file_cells();
   std::vector<detail::CompensatedSum> weighted(n * nc), plain(n * nc), total(n);
   std::vector<std::size_t> count(n, 0);

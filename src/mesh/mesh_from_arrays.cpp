@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "../dimension.hpp"
+#include "mesh_dim.hpp"
 #include "../io/mesh_assembly.hpp"
 #include "split_cells.hpp"
 
@@ -37,9 +37,9 @@ const char* type_name(int type) {
 }
 
 template <class Mesh>
-Mesh assemble(std::vector<typename detail::Dim<Mesh>::Point> nodes, std::span<const CellBlock> blocks,
+Mesh assemble(std::vector<typename detail::MeshDim<Mesh>::Point> nodes, std::span<const CellBlock> blocks,
               const std::string& name) {
-  using Dm = detail::Dim<Mesh>;
+  using Dm = detail::MeshDim<Mesh>;
   constexpr std::size_t nv = Dm::nv;
   const int simplex_type = Dm::d == 3 ? 4 : 2;
   if (nodes.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))

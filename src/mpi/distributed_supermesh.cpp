@@ -20,7 +20,7 @@
 // box overlap (each contains s cap t), t's box lies inside the box of t's run (a union of its
 // cells' boxes), so s's box meets a box q published and r sends s to q, which tests the pair:
 // either search finds every pair with positive volume among the cells it is given (see
-// src/supermesh.cpp). Conversely each pair is tested only on the rank of its target cell, so
+// src/supermesh/supermesh.cpp). Conversely each pair is tested only on the rank of its target cell, so
 // every piece appears once. Why bit for bit: a piece is the same kernel call on the same two
 // cells, vertex for vertex (the cells travel as their coordinates, in the order given; finalize
 // then orients the received cells as it orients the whole mesh), and front and R-tree searches

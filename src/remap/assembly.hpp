@@ -17,8 +17,8 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCore>
 
-#include "../dimension.hpp"
-#include "../mixed_mass.hpp"
+#include "../supermesh/dimension.hpp"
+#include "../supermesh/mixed_mass.hpp"
 #include "tetia/remap.hpp"
 
 namespace tetia::detail::remap {
@@ -57,7 +57,7 @@ inline std::size_t idx(std::int32_t i) { return static_cast<std::size_t>(i); }
 
 // Calls f(target cell's nodes, source cell's nodes, A) for each piece in (target, source) order,
 // A its local mixed mass matrix (row-major, nv x nv): kept by the supermesh, or computed here
-// from the kept shape (src/mixed_mass.hpp), the same values either way. Pieces without a shape
+// from the kept shape (src/supermesh/mixed_mass.hpp), the same values either way. Pieces without a shape
 // (never one of positive volume) are skipped.
 template <class Mesh, class F>
 void for_each_local_mass(const typename detail::Dim<Mesh>::Result& s, MassSource from, F&& f) {

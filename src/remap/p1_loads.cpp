@@ -2,15 +2,15 @@
 // loads M_ts u_s summed by a PieceConsumer, the solve, and remap_p1 from two meshes.
 //
 // Bit for bit the kept path (src/remap/assembly.hpp, mixed_mass_times): the local mixed mass
-// matrix comes from the same function on the same polyhedron (src/mixed_mass.hpp), each
+// matrix comes from the same function on the same polyhedron (src/supermesh/mixed_mass.hpp), each
 // target row of it is applied to the source values in the same order, and those sums are added
 // to the loads in the same (target, source) order of the pieces.
 #include <cstddef>
 #include <stdexcept>
 #include <string>
 
-#include "../dimension.hpp"
-#include "../mixed_mass.hpp"
+#include "../supermesh/dimension.hpp"
+#include "../supermesh/mixed_mass.hpp"
 #include "assembly.hpp"
 #include "tetia/remap.hpp"
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <utility>
 
-#include "../dimension.hpp"
+#include "../supermesh/dimension.hpp"
 #include "assembly.hpp"
 #include "tetia/file_cells.hpp"
 

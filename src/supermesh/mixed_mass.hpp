@@ -1,4 +1,4 @@
-// src/mixed_mass.hpp -- internal: the local mixed mass matrix of one supermesh piece, shared by
+// src/supermesh/mixed_mass.hpp -- internal: the local mixed mass matrix of one supermesh piece, shared by
 // the supermesh (SupermeshOptions::keep_mixed_mass: computed while the kernel's polyhedron or
 // polygon is at hand, only the numbers kept) and the remap (from kept polyhedra or polygons).
 // Not installed, not public API.

@@ -3,7 +3,7 @@
 // adjacency or by an R-tree.
 //
 // One implementation for both dimensions: everything below is a template over the mesh type
-// (src/dimension.hpp says what differs: the point and cell types, the kernel, volume or area);
+// (src/supermesh/dimension.hpp says what differs: the point and cell types, the kernel, volume or area);
 // the only dimension-specific function is faces_crossed, the certified side test. The text
 // speaks of tetrahedra, faces and volumes; in 2D read triangles, edges and areas (and "removing
 // segments" in the argument below becomes "removing points": it still does not disconnect an
@@ -87,7 +87,7 @@
 // kernel runs (in 3D on every candidate, in 2D on each piece after the fast path; the same
 // moments bit for bit). keep_polyhedra stores the whole polyhedron (polygon) per piece;
 // keep_mixed_mass computes the piece's local mixed mass matrix from it while it is at hand
-// (src/mixed_mass.hpp, the function the remap uses on kept polyhedra) and stores only those 16
+// (src/supermesh/mixed_mass.hpp, the function the remap uses on kept polyhedra) and stores only those 16
 // (9) numbers, merged in the same order as the pieces.
 #include "tetia/supermesh.hpp"
 
@@ -100,6 +100,7 @@
 #include <cmath>
 #include <cstdint>
 #include <iterator>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -117,10 +118,10 @@
 #include <boost/geometry/index/rtree.hpp>
 
 #include "dimension.hpp"
-#include "kernel/one_to_many.hpp"
+#include "../kernel/one_to_many.hpp"
 #include "mixed_mass.hpp"
-#include "compensated_sum.hpp"
-#include "morton.hpp"
+#include "../compensated_sum.hpp"
+#include "../morton.hpp"
 #include "tetia/tet_intersection.hpp"
 #include "tetia/tri_intersection.hpp"
 
@@ -948,21 +949,24 @@ typename detail::Dim<Mesh>::Result build(
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;
   }
+  // 8 B a piece: the source cell's index is that of the piece's position (sources[p].id).
   struct Ref {
-    std::int32_t source;
+    std::uint32_t index;  // in its worker's storage
     std::int32_t worker;
-    std::size_t index;
   };
+  for (const auto& w : workers)
+    if (w && w->pieces().size() > std::numeric_limits<std::uint32_t>::max())
+      throw std::length_error("tetia: supermesh: more than 2^32 pieces on one thread");
   std::vector<Ref> refs;
   reserve_huge(refs, total);
   refs.resize(total);
-  for_each_piece_by_source([&](std::size_t id, int w, std::size_t i) {
+  for_each_piece_by_source([&](std::size_t, int w, std::size_t i) {
     refs[pos[static_cast<std::size_t>(target_id(workers[static_cast<std::size_t>(w)]->pieces()[i]))]++] =
-        Ref{static_cast<std::int32_t>(id), w, i};
+        Ref{static_cast<std::uint32_t>(i), w};
   });
   const auto piece_of = [&](const Ref& r) {  // with its cells' indices
     typename Dm::Piece piece = workers[static_cast<std::size_t>(r.worker)]->pieces()[r.index];
-    piece.source = r.source;
+    piece.source = sources[static_cast<std::size_t>(piece.source)].id;
     piece.target = target_id(piece);
     return piece;
   };
