@@ -19,6 +19,7 @@
 #include "arrays.hpp"
 #include "bindings.hpp"
 #include "options.hpp"
+#include "tetia/remap.hpp"
 #include "tetia/remap_operator.hpp"
 
 namespace tetia::python {
@@ -106,9 +107,53 @@ py::object apply(const RemapHandle& h, const py::object& u, bool with_report) {
   return py::make_tuple(result, r);
 }
 
+// tetia::remap_p1 from two meshes: the supermesh is handed to P1Loads, not kept. Components of
+// u, (n,) or (n, k), are remapped each on its own, bit for bit as RemapHandle::apply does.
+py::object remap_p1_streamed(const MeshHandle& source, const MeshHandle& target, const py::object& u,
+                             const std::string& search, std::optional<int> threads, bool with_report) {
+  check_same_dimension(source, target, "remap_p1");
+  const SupermeshOptions options = supermesh_options(search, threads);
+  const std::size_t nodes = std::visit([](const auto& m) { return m->num_nodes(); }, source.mesh);
+  const std::size_t rows = std::visit([](const auto& m) { return m->num_nodes(); }, target.mesh);
+  Doubles a = as_doubles(u, "field");
+  if (a.ndim() != 1 && a.ndim() != 2)
+    value_error("tetia: remap_p1: the field must have shape (n,) or (n, k), got " + shape_text(a));
+  if (static_cast<std::size_t>(a.shape(0)) != nodes)
+    value_error("tetia: remap_p1: the field has " + std::to_string(a.shape(0)) + " rows, but the source has " +
+                std::to_string(nodes) + " nodes (one value per source node)");
+  if (a.ndim() == 2 && a.shape(1) < 1) value_error("tetia: remap_p1: the field has no components, shape " + shape_text(a));
+  check_finite(a, "field");
+  const auto k = static_cast<std::size_t>(a.ndim() == 1 ? 1 : a.shape(1));
+  std::vector<std::vector<double>> fields(k, std::vector<double>(nodes));
+  for (std::size_t i = 0; i < nodes; ++i)
+    for (std::size_t c = 0; c < k; ++c) fields[c][i] = a.data()[i * k + c];
+  std::vector<std::vector<double>> out;
+  std::vector<P1RemapReport> reports;
+  {
+    py::gil_scoped_release release;
+    if (source.dim() == 3)
+      out = remap_p1(*std::get<0>(source.mesh), *std::get<0>(target.mesh), fields, options, &reports);
+    else
+      out = remap_p1(*std::get<1>(source.mesh), *std::get<1>(target.mesh), fields, options, &reports);
+  }
+  std::vector<double> values(rows * k);
+  for (std::size_t i = 0; i < rows; ++i)
+    for (std::size_t c = 0; c < k; ++c) values[i * k + c] = out[c][i];
+  const auto rows_i = static_cast<py::ssize_t>(rows), k_i = static_cast<py::ssize_t>(k);
+  py::array_t<double> result = a.ndim() == 2 ? to_array(std::move(values), {rows_i, k_i}) : to_array(std::move(values));
+  if (!with_report) return py::object(std::move(result));
+  py::dict r;  // the last component's solve, as apply reports
+  r["iterations"] = reports.back().iterations;
+  r["residual"] = reports.back().residual;
+  return py::make_tuple(result, r);
+}
+
 }  // namespace
 
 void bind_remap(py::module_& m) {
+  m.def("remap_p1", &remap_p1_streamed, py::arg("source"), py::arg("target"), py::arg("field"),
+        py::arg("search") = "front", py::arg("threads") = py::none(), py::arg("report") = false,
+        "P1 remap straight from two meshes: the supermesh is not kept (tetia::P1Loads).");
   py::class_<RemapHandle>(m, "RemapHandle", "tetia::Remap (3D) or tetia::Remap2 (2D), held by tetia.Remap.")
       .def(py::init(&make_remap), py::arg("source"), py::arg("target"), py::arg("order") = 0,
            py::arg("normalization") = "cell_volume", py::arg("search") = "front", py::arg("threads") = py::none())

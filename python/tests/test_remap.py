@@ -106,6 +106,26 @@ def test_vector_fields_are_remapped_component_by_component(squares):
     assert np.array_equal(r(np.asfortranarray(u)), v)
 
 
+@pytest.mark.parametrize("meshes", ["cubes", "squares"])
+def test_remap_p1_from_the_meshes_is_the_operators_bit_for_bit(request, meshes):
+    # tetia.remap_p1 keeps no supermesh (its pieces are summed into the loads as they are found);
+    # the numbers are those of the operator that keeps it.
+    source, target = request.getfixturevalue(meshes)
+    rng = np.random.default_rng(5)
+    r = tetia.Remap(source, target, order=1)
+    for u in (rng.standard_normal(source.num_points), rng.standard_normal((source.num_points, 2))):
+        for threads in (1, 2):
+            v, report = tetia.remap_p1(source, target, u, threads=threads, report=True)
+            expected, expected_report = r.apply(u, report=True)
+            assert v.shape == expected.shape
+            assert np.array_equal(v, expected)
+            assert report == expected_report
+    with pytest.raises(ValueError, match="one value per source node"):
+        tetia.remap_p1(source, target, np.ones(source.num_points + 1))
+    with pytest.raises(ValueError, match="finite"):
+        tetia.remap_p1(source, target, np.full(source.num_points, np.nan))
+
+
 def test_two_threads_at_once_get_what_one_gets(cubes):
     source, target = cubes
     r = tetia.Remap(source, target, order=1)

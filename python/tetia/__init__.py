@@ -7,6 +7,7 @@ and conservative remap between them (P0 and P1), from NumPy arrays and meshio me
     target = tetia.Mesh(points, {"tetra": cells})
     r = tetia.Remap(source, target, order=0) # built once
     u_target = r(u_source)                   # applied to many fields; r.matrix is SciPy CSR
+    u_target = tetia.remap_p1(source, target, u_source)  # P1 once, for large meshes: nothing kept
 
 Every volume, area and remapped value is what the C++ library returns, bit for bit; the GIL is
 released while tetia works, and every object is safe to use from several threads at once.
@@ -14,7 +15,7 @@ released while tetia works, and every object is safe to use from several threads
 
 from ._tetia import Polygon, Polyhedron, __version__, intersect, intersection_area, intersection_volume
 from .mesh import Mesh, read_mesh
-from .remap import Remap
+from .remap import Remap, remap_p1
 from .supermesh import Supermesh, supermesh
 
 __all__ = [
@@ -28,5 +29,6 @@ __all__ = [
     "intersection_area",
     "intersection_volume",
     "read_mesh",
+    "remap_p1",
     "supermesh",
 ]

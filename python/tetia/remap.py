@@ -88,3 +88,16 @@ class Remap:
 
     def __repr__(self):
         return f"<tetia.Remap order {self.order}: {self.shape[1]} -> {self.shape[0]} values per component>"
+
+
+def remap_p1(source, target, field, search="front", threads=None, report=False):
+    """P1 remap of nodal values straight from two meshes, for large meshes: the supermesh is
+    handed to the loads as its pieces are found and never kept (tetia::P1Loads), so memory is
+    about 100 B per piece instead of the 370 B that Remap(order=1) needs. field: (n,) or (n, k),
+    one row per source node; returns (m,) or (m, k), one row per target node: bit for bit
+    Remap(source, target, order=1)(field). With report=True, (result, {"iterations",
+    "residual"}) of the last component's solve. Build a Remap instead to apply one operator to
+    many fields, or to get its matrices.
+    """
+    source, target = as_mesh(source, "source"), as_mesh(target, "target")
+    return _tetia.remap_p1(source._handle, target._handle, field, search, threads, bool(report))

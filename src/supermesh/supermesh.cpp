@@ -307,6 +307,26 @@ void reserve_for_one_more(std::vector<T>& v) {
   if (v.size() == v.capacity()) reserve_huge(v, std::max<std::size_t>(1024, 2 * v.capacity()));
 }
 
+// A consumer's numbers per piece, in blocks of about 8 MB: appended without ever being copied (a
+// growing vector holds its old and its new storage at once, half again its size at the peak),
+// read by piece index.
+class PieceValues {
+ public:
+  explicit PieceValues(std::size_t per_piece)
+      : per_piece_(per_piece), per_block_(std::max<std::size_t>(1, (std::size_t{1} << 20) / std::max<std::size_t>(1, per_piece))) {}
+  double* append() {
+    if (n_ == blocks_.size() * per_block_) blocks_.push_back(std::make_unique_for_overwrite<double[]>(per_block_ * per_piece_));
+    double* p = at(n_);
+    ++n_;
+    return p;
+  }
+  double* at(std::size_t piece) const { return blocks_[piece / per_block_].get() + (piece % per_block_) * per_piece_; }
+
+ private:
+  std::size_t per_piece_, per_block_, n_ = 0;
+  std::vector<std::unique_ptr<double[]>> blocks_;
+};
+
 // A source cell whose pieces found by the front add up to less than (1 - this) times its volume
 // goes to the R-tree (see the comment at the top: the coverage test).
 constexpr double kCoverageTolerance = 1e-12;
@@ -391,7 +411,7 @@ class Worker {
   // The pieces' storage is reserved for this thread's share of a typical count (between 2.6
   // and 9 pieces per cell of both meshes in the benchmarks): address space only until written,
   // and growing it by copying is then rare.
-  Worker(const Shared<Mesh>& sh, int threads) : sh_(sh), mark_(sh.targets.size(), 0) {
+  Worker(const Shared<Mesh>& sh, int threads) : sh_(sh), mark_(sh.targets.size(), 0), values_(sh.values_per_piece) {
     const std::size_t cells = sh.sources.size() + sh.targets.size();
     reserve_huge(pieces_, std::min<std::size_t>(10 * cells / static_cast<std::size_t>(threads), std::size_t{1} << 26));
   }
@@ -399,7 +419,7 @@ class Worker {
   const std::vector<Piece>& pieces() const { return pieces_; }
   const std::vector<Shape>& shapes() const { return shapes_; }
   const std::vector<LocalMass>& local_mass() const { return mass_; }
-  const double* values(std::size_t piece) const { return values_.data() + piece * sh_.values_per_piece; }
+  const double* values(std::size_t piece) const { return values_.at(piece); }
 
   void run_chunk(Chunk& ch, int id, CandidateSearch search) {
     ch.worker = id;
@@ -486,12 +506,8 @@ class Worker {
     if (!(Dm::measure(m) > floor)) return false;
     if (shaped) {
       if constexpr (Dm::d == 2) shape_ = intersect(S_, T_);
-      if (sh_.values_per_piece != 0) {  // the consumer's numbers, from the piece with its cells' indices
-        const std::size_t k = sh_.values_per_piece, at = values_.size();
-        if (at + k > values_.capacity()) reserve_huge(values_, std::max<std::size_t>(1024 * k, 2 * values_.capacity()));
-        values_.resize(at + k);
-        sh_.consumer->compute(Dm::piece(sh_.sources[static_cast<std::size_t>(s)].id, rec.id, m), shape_, values_.data() + at);
-      }
+      if (sh_.values_per_piece != 0)  // the consumer's numbers, from the piece with its cells' indices
+        sh_.consumer->compute(Dm::piece(sh_.sources[static_cast<std::size_t>(s)].id, rec.id, m), shape_, values_.append());
       if (sh_.keep_shapes) {
         reserve_for_one_more(shapes_);
         shapes_.push_back(shape_);
@@ -718,7 +734,7 @@ class Worker {
   std::vector<Piece> pieces_;
   std::vector<Shape> shapes_;
   std::vector<LocalMass> mass_;  // parallel to pieces_ when kept
-  std::vector<double> values_;   // a consumer's values_per_piece numbers per piece, parallel to pieces_
+  PieceValues values_;           // a consumer's values_per_piece numbers per piece, parallel to pieces_
   std::size_t candidates_ = 0;
   bool crossed_risky_ = false;  // a positive target's risky face crossed by s (flood)
   double covered_ = 0.0;  // volume of s's pieces found so far
