@@ -397,10 +397,11 @@ void vtu(const std::filesystem::path& file, const Mesh& mesh, const std::vector<
       static constexpr std::uint8_t kVtkType[8] = {0, 0, 5, 9, 10, 12, 13, 14};
       types[f] = kVtkType[type];
     }
-    xml += "      <Cells>\n        " +
-           arrays.array("Int32", "connectivity", 1, std::span<const std::int32_t>(connectivity)) + "        " +
-           arrays.array("Int32", "offsets", 1, std::span<const std::int32_t>(offsets)) + "        " +
-           arrays.array("UInt8", "types", 1, std::span<const std::uint8_t>(types)) + "      </Cells>\n";
+    // One statement each: the operands of + are evaluated in no specified order, and each call
+    // appends its data, so one expression gave another file layout with another compiler.
+    xml += "      <Cells>\n        " + arrays.array("Int32", "connectivity", 1, std::span<const std::int32_t>(connectivity));
+    xml += "        " + arrays.array("Int32", "offsets", 1, std::span<const std::int32_t>(offsets));
+    xml += "        " + arrays.array("UInt8", "types", 1, std::span<const std::uint8_t>(types)) + "      </Cells>\n";
   } else {
     // Int32 connectivity and offsets, as the mesh holds them (VTK takes either width).
     static_assert(sizeof(mesh.cells[0]) == Dm::nv * sizeof(std::int32_t));
@@ -408,9 +409,9 @@ void vtu(const std::filesystem::path& file, const Mesh& mesh, const std::vector<
     std::vector<std::int32_t> offsets(mesh.cells.size());
     for (std::size_t c = 0; c < mesh.cells.size(); ++c) offsets[c] = static_cast<std::int32_t>(Dm::nv * (c + 1));
     const std::vector<std::uint8_t> types(mesh.cells.size(), Dm::d == 3 ? 10 : 5);  // VTK_TETRA, VTK_TRIANGLE
-    xml += "      <Cells>\n        " + arrays.array("Int32", "connectivity", 1, connectivity, Dm::nv) + "        " +
-           arrays.array("Int32", "offsets", 1, std::span<const std::int32_t>(offsets)) + "        " +
-           arrays.array("UInt8", "types", 1, std::span<const std::uint8_t>(types)) + "      </Cells>\n";
+    xml += "      <Cells>\n        " + arrays.array("Int32", "connectivity", 1, connectivity, Dm::nv);  // one by one, as above
+    xml += "        " + arrays.array("Int32", "offsets", 1, std::span<const std::int32_t>(offsets));
+    xml += "        " + arrays.array("UInt8", "types", 1, std::span<const std::uint8_t>(types)) + "      </Cells>\n";
   }
   const bool binary = options.format == VtuFormat::binary;
   TextOut out(file);

@@ -519,6 +519,31 @@ TEST_F(IoTest, VtuIsWellFormed) {
   }
 }
 
+TEST_F(IoTest, BinaryVtuAppendsItsArraysInTheOrderOfTheXml) {
+  // The layout of the appended data must not depend on the compiler: every array's offset is
+  // larger than the one before it in the file (one writer call per statement), for a plain mesh
+  // and for one with split file cells (a hexahedron), whose cells are written per file cell.
+  const std::string hex = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 8 1 8\n3 1 0 8\n1\n2\n3\n4\n5\n6\n7\n8\n"
+                          "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n$EndNodes\n$Elements\n1 1 1 1\n"
+                          "3 1 5 1\n1 1 2 3 4 5 6 7 8\n$EndElements\n";
+  std::ofstream(path("hex.msh")) << hex;
+  for (const TetMesh& m : {kuhn({2, 1, 1}), tetia::read_mesh(path("hex.msh"))}) {
+    const fs::path file = path("layout.vtu");
+    tetia::write_vtu(file, m, {{"c", std::vector<double>(m.num_file_cells(), 1.0)}},
+                     {{"p", std::vector<double>(m.num_nodes(), 2.0)}});
+    const std::string text = read_text(file);
+    long long last = -1;
+    int arrays = 0;
+    for (std::size_t at = text.find("offset=\""); at != std::string::npos; at = text.find("offset=\"", at + 1)) {
+      const long long offset = std::stoll(text.substr(at + 8));
+      EXPECT_GT(offset, last) << "array " << arrays;
+      last = offset;
+      ++arrays;
+    }
+    EXPECT_GE(arrays, 5);  // points, connectivity, offsets, types, fields
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Generation
 
