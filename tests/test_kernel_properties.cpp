@@ -435,9 +435,8 @@ void run_family(const char* name) {
       const Moments oi = one.intersect(B, detail::conditioning(B), OP);
       if (oi.volume != v || !(oi.first == P.moments().first))
         what += (what.empty() ? "" : "; ") + ("OneToMany::intersect " + fmt(oi.volume) + " differs from intersect()");
-      else if (!P.empty())
-        if (const std::string d = same_polyhedron(OP, P); !d.empty())
-          what += (what.empty() ? "" : "; ") + ("OneToMany::intersect's polyhedron differs: " + d);
+      else if (const std::string d = P.empty() ? std::string() : same_polyhedron(OP, P); !d.empty())
+        what += (what.empty() ? "" : "; ") + ("OneToMany::intersect's polyhedron differs: " + d);
       if (!what.empty())
         fails.add(c, i, std::string(role) + ": " + what, A, B, st,
                   "volume " + fmt(v) + ", corners " + std::to_string(P.num_corners()) +

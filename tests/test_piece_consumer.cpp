@@ -122,7 +122,9 @@ void check_pieces(const Pair<Mesh>& pair) {
         EXPECT_TRUE(r.ids_matched);
         for (std::size_t k = 0; k < s.pieces.size(); ++k) {
           ASSERT_TRUE(same_piece(r.pieces[k], s.pieces[k])) << "piece " << k;
-          if (with_values) ASSERT_TRUE(same_bits(r.shape_measures[k], measure(shapes(s)[k]))) << "piece " << k;
+          if (with_values) {
+            ASSERT_TRUE(same_bits(r.shape_measures[k], measure(shapes(s)[k]))) << "piece " << k;
+          }
         }
       }
     }

@@ -161,25 +161,18 @@ std::vector<Box> target_boxes(const MeshPart& target, int count) {
     vertices_of(target, c, vertices.data() + kVertexDoubles * c);
     extend(all, vertices.data() + kVertexDoubles * c);
   }
-  std::vector<std::uint64_t> code(n);
+  // (code, cell), sorted stably: the centroid's Morton code in the part's bounding box.
+  std::vector<std::pair<std::uint64_t, std::size_t>> order(n);
   for (std::size_t c = 0; c < n; ++c) {
-    std::uint64_t key = 0;
-    for (int d = 0; d < 3; ++d) {
-      const double* v = vertices.data() + kVertexDoubles * c;
-      const double centre = 0.25 * (v[d] + v[3 + d] + v[6 + d] + v[9 + d]);
-      const double extent = all[static_cast<std::size_t>(3 + d)] - all[static_cast<std::size_t>(d)];
-      const double unit = extent > 0.0 ? (centre - all[static_cast<std::size_t>(d)]) / extent : 0.0;
-      const auto q = static_cast<std::uint64_t>(std::clamp(unit, 0.0, 1.0) * double((1u << 21) - 1));
-      key |= tetia::detail::spread_bits<3>(q) << (2 - d);
-    }
-    code[c] = key;
+    const double* v = vertices.data() + kVertexDoubles * c;
+    double centre[3];
+    for (int d = 0; d < 3; ++d) centre[d] = 0.25 * (v[d] + v[3 + d] + v[6 + d] + v[9 + d]);
+    order[c] = {tetia::detail::morton_code<3>(centre, all.data(), all.data() + 3), c};
   }
-  std::vector<std::size_t> order(n);
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return code[a] < code[b]; });
+  tetia::detail::sort_by_key(order);
   const std::size_t runs = std::min<std::size_t>(n, static_cast<std::size_t>(std::max(1, count)));
   std::vector<Box> boxes(runs, empty_box());
-  for (std::size_t i = 0; i < n; ++i) extend(boxes[i * runs / n], vertices.data() + kVertexDoubles * order[i]);
+  for (std::size_t i = 0; i < n; ++i) extend(boxes[i * runs / n], vertices.data() + kVertexDoubles * order[i].second);
   return boxes;
 }
 

@@ -1,7 +1,6 @@
 // Parts of a whole mesh and a Morton partition (tetia/mpi.hpp): what a code that reads a mesh on
 // one rank, the command line and the tests hand to the distributed supermesh.
 #include <algorithm>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -50,25 +49,19 @@ std::vector<int> morton_partition(const TetMesh& mesh, int parts) {
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   }
-  const auto quantize = [](double v, double a, double b) {
-    const double u = b > a ? (v - a) / (b - a) : 0.0;
-    return static_cast<std::uint64_t>(std::clamp(u, 0.0, 1.0) * double((1u << 21) - 1));
-  };
-  std::vector<std::uint64_t> code(n);
+  const double lo_xyz[3] = {lo.x, lo.y, lo.z}, hi_xyz[3] = {hi.x, hi.y, hi.z};
+  std::vector<std::pair<std::uint64_t, std::size_t>> order(n);  // (code, cell), sorted stably
   for (std::size_t c = 0; c < n; ++c) {
     Vec3 g{0, 0, 0};
     for (const std::int32_t v : mesh.cells[c]) {
       const Vec3& p = mesh.nodes[static_cast<std::size_t>(v)];
       g = {g.x + 0.25 * p.x, g.y + 0.25 * p.y, g.z + 0.25 * p.z};
     }
-    code[c] = tetia::detail::spread_bits<3>(quantize(g.x, lo.x, hi.x)) << 2 |
-              tetia::detail::spread_bits<3>(quantize(g.y, lo.y, hi.y)) << 1 |
-              tetia::detail::spread_bits<3>(quantize(g.z, lo.z, hi.z));
+    const double centre[3] = {g.x, g.y, g.z};
+    order[c] = {tetia::detail::morton_code<3>(centre, lo_xyz, hi_xyz), c};
   }
-  std::vector<std::size_t> order(n);
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return code[a] < code[b]; });
-  for (std::size_t i = 0; i < n; ++i) owner[order[i]] = static_cast<int>(i * static_cast<std::size_t>(parts) / n);
+  tetia::detail::sort_by_key(order);
+  for (std::size_t i = 0; i < n; ++i) owner[order[i].second] = static_cast<int>(i * static_cast<std::size_t>(parts) / n);
   return owner;
 }
 

@@ -417,6 +417,7 @@ class Worker {
   }
 
   const std::vector<Piece>& pieces() const { return pieces_; }
+  std::vector<Piece>& pieces() { return pieces_; }  // for the merge, once the search is done
   const std::vector<Shape>& shapes() const { return shapes_; }
   const std::vector<LocalMass>& local_mass() const { return mass_; }
   const double* values(std::size_t piece) const { return values_.at(piece); }
@@ -749,33 +750,12 @@ class Worker {
   std::conditional_t<Dm::d == 3, std::optional<detail::OneToMany>, std::monostate> one_;
 };
 
-// Sorts (key, index) pairs by key, stably: pairs made in increasing index order come out as
-// std::sort would sort them. LSD radix sort on 11-bit digits (six passes for 64 bits, a digit
-// that all keys share is skipped), linear in the number of cells.
-void sort_by_key(std::vector<std::pair<std::uint64_t, std::int32_t>>& a) {
-  constexpr int kBits = 11;
-  constexpr std::size_t kBuckets = std::size_t{1} << kBits;
-  std::vector<std::pair<std::uint64_t, std::int32_t>> b(a.size());
-  std::vector<std::size_t> count(kBuckets);
-  for (int shift = 0; shift < 64; shift += kBits) {
-    std::fill(count.begin(), count.end(), 0);
-    for (const auto& x : a) ++count[(x.first >> shift) & (kBuckets - 1)];
-    if (std::find(count.begin(), count.end(), a.size()) != count.end()) continue;
-    std::size_t sum = 0;
-    for (std::size_t& c : count) sum += std::exchange(c, sum);
-    for (const auto& x : a) b[count[(x.first >> shift) & (kBuckets - 1)]++] = x;
-    a.swap(b);
-  }
-}
-
 // The cells of a mesh by the Morton code of their centroids (63 / d bits per axis, 21 in 3D
 // and 31 in 2D) in the bounding box of the mesh's nodes; `rank` is its inverse.
 template <class Mesh>
 void morton_order(const Mesh& mesh, std::vector<std::int32_t>& order, std::vector<std::int32_t>& rank) {
   using Dm = detail::Dim<Mesh>;
   constexpr int d = Dm::d;
-  constexpr int bits = 63 / d;
-  constexpr double top = static_cast<double>((std::uint64_t{1} << bits) - 1);
   const std::size_t ns = mesh.num_cells();
   Box<d> all;
   for (std::size_t k = 0; k < d; ++k) all.lo[k] = all.hi[k] = Dm::coord(mesh.nodes[0], static_cast<int>(k));
@@ -788,21 +768,15 @@ void morton_order(const Mesh& mesh, std::vector<std::int32_t>& order, std::vecto
   std::vector<std::pair<std::uint64_t, std::int32_t>> keys(ns);
   for (std::size_t c = 0; c < ns; ++c) {
     const auto t = mesh.cell(c);
-    std::uint64_t key = 0;
-    std::uint64_t q[d];
+    double centre[d];
     for (int k = 0; k < d; ++k) {
-      const auto i = static_cast<std::size_t>(k);
       double sum = Dm::coord(t[0], k);
       for (std::size_t v = 1; v < t.size(); ++v) sum += Dm::coord(t[v], k);
-      const double centre = (1.0 / static_cast<double>(t.size())) * sum;
-      const double extent = all.hi[i] - all.lo[i];
-      const double f = extent > 0.0 ? (centre - all.lo[i]) / extent : 0.0;
-      q[i] = static_cast<std::uint64_t>(std::clamp(f, 0.0, 1.0) * top);
+      centre[k] = (1.0 / static_cast<double>(t.size())) * sum;
     }
-    for (int k = 0; k < d; ++k) key |= detail::spread_bits<d>(q[k]) << (d - 1 - k);  // bit b of axis k at d * b + d - 1 - k
-    keys[c] = {key, static_cast<std::int32_t>(c)};
+    keys[c] = {detail::morton_code<d>(centre, all.lo.data(), all.hi.data()), static_cast<std::int32_t>(c)};
   }
-  sort_by_key(keys);
+  detail::sort_by_key(keys);
   order.resize(ns);
   rank.resize(ns);
   for (std::size_t i = 0; i < ns; ++i) {
@@ -954,14 +928,40 @@ typename detail::Dim<Mesh>::Result build(
   };
   std::vector<std::size_t> pos(offset.begin(), offset.end() - 1);
   if (!consumer && !options.keep_polyhedra && !options.keep_mixed_mass) {
-    reserve_huge(out.pieces, total);
-    out.pieces.resize(total);
+    // In place: the storage of the thread with the most pieces becomes the result (its pages
+    // are touched already), the others' pieces are appended, and every piece is moved to its
+    // place by following the cycles of the permutation, with 4 B per piece for the places.
+    // Copying every piece (40 B) to fresh memory instead touched as much again, page by page,
+    // which cost the development VM a tenth of the call (its page faults are slow).
+    if (total > std::numeric_limits<std::uint32_t>::max())
+      throw std::length_error("tetia: supermesh: more than 2^32 pieces");
+    std::size_t big = 0;
+    for (std::size_t w = 1; w < workers.size(); ++w)
+      if (workers[w] && (!workers[big] || workers[w]->pieces().size() > workers[big]->pieces().size())) big = w;
+    std::vector<std::size_t> base(workers.size(), 0);  // of each thread's pieces in the result
+    std::size_t next = workers[big] ? workers[big]->pieces().size() : 0;
+    for (std::size_t w = 0; w < workers.size(); ++w)
+      if (w != big && workers[w]) base[w] = std::exchange(next, next + workers[w]->pieces().size());
+    std::vector<std::uint32_t> place(total);
     for_each_piece_by_source([&](std::size_t id, int w, std::size_t i) {
-      typename Dm::Piece piece = workers[static_cast<std::size_t>(w)]->pieces()[i];
-      piece.source = static_cast<std::int32_t>(id);
+      typename Dm::Piece& piece = workers[static_cast<std::size_t>(w)]->pieces()[i];
       piece.target = target_id(piece);
-      out.pieces[pos[static_cast<std::size_t>(piece.target)]++] = piece;
+      piece.source = static_cast<std::int32_t>(id);
+      place[base[static_cast<std::size_t>(w)] + i] = static_cast<std::uint32_t>(pos[static_cast<std::size_t>(piece.target)]++);
     });
+    if (workers[big]) out.pieces = std::move(workers[big]->pieces());
+    for (std::size_t w = 0; w < workers.size(); ++w)
+      if (w != big && workers[w]) {
+        auto& pcs = workers[w]->pieces();
+        out.pieces.insert(out.pieces.end(), pcs.begin(), pcs.end());
+        pcs = {};
+      }
+    for (std::size_t k = 0; k < total; ++k)
+      while (place[k] != k) {
+        const std::uint32_t j = place[k];
+        std::swap(out.pieces[k], out.pieces[j]);
+        std::swap(place[k], place[j]);
+      }
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;
   }
