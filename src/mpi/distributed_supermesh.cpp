@@ -54,6 +54,7 @@
 #include <boost/geometry/index/rtree.hpp>
 
 #include "../morton.hpp"
+#include "../supermesh/mixed_mass.hpp"
 #include "exchange.hpp"
 #include "tetia/mesh.hpp"
 #include "tetia/supermesh.hpp"
@@ -332,20 +333,49 @@ Exchanged exchange_and_intersect(const MeshPart& source, std::span<const double>
       SupermeshOptions so;
       so.search = with_node_ids ? CandidateSearch::front : CandidateSearch::rtree;
       so.threads = options.threads;
-      so.keep_mixed_mass = keep_mixed_mass;
-      Supermesh s = tetia::supermesh(std::make_shared<const TetMesh>(std::move(received_mesh)), out.target, so);
-      out.stats.candidates = s.candidates;
-      std::vector<std::size_t> order(s.pieces.size());
+      // The pieces (and their local mixed mass matrices, computed as keep_mixed_mass computes
+      // them) handed straight into `out` by a consumer: no kept supermesh to copy them from.
+      // Then in (target id, source id) order, in place.
+      struct Into final : PieceConsumer {
+        const TetMesh& source;
+        bool with_mass;
+        Exchanged& out;
+        Into(const TetMesh& s, bool m, Exchanged& o) : source(s), with_mass(m), out(o) {}
+        std::size_t values_per_piece() const override { return with_mass ? 16 : 0; }
+        void compute(const SupermeshPiece& p, const Polyhedron& P, double* values) const override {
+          std::array<double, 16> A;
+          tetia::detail::piece_mixed_mass<TetMesh>(source.cell(static_cast<std::size_t>(p.source)), P, A);
+          std::copy(A.begin(), A.end(), values);
+        }
+        void consume(const SupermeshPiece& p, const double* values) override {
+          out.pieces.push_back(p);
+          if (with_mass) std::copy(values, values + 16, out.local_mass.emplace_back().begin());
+        }
+      } into(received_mesh, keep_mixed_mass, out);
+      out.stats.candidates = tetia::supermesh(received_mesh, *out.target, into, so).candidates;
+      const std::size_t n = out.pieces.size();
+      std::vector<std::size_t> order(n);  // order[k]: the piece that goes to position k
       std::iota(order.begin(), order.end(), std::size_t{0});
       const auto key = [&](std::size_t k) {
-        return std::pair{target.cell_ids[static_cast<std::size_t>(s.pieces[k].target)],
-                         out.source_ids[static_cast<std::size_t>(s.pieces[k].source)]};
+        return std::pair{target.cell_ids[static_cast<std::size_t>(out.pieces[k].target)],
+                         out.source_ids[static_cast<std::size_t>(out.pieces[k].source)]};
       };
       std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
-      out.pieces.reserve(order.size());
-      for (const std::size_t k : order) {
-        out.pieces.push_back(s.pieces[k]);
-        if (keep_mixed_mass) out.local_mass.push_back(s.local_mass[k]);
+      for (std::size_t start = 0; start < n; ++start) {  // follow each cycle once; done: order[k] = k
+        if (order[start] == start) continue;
+        const SupermeshPiece piece = out.pieces[start];
+        const std::array<double, 16> mass = keep_mixed_mass ? out.local_mass[start] : std::array<double, 16>{};
+        std::size_t k = start;
+        while (order[k] != start) {
+          const std::size_t from = order[k];
+          out.pieces[k] = out.pieces[from];
+          if (keep_mixed_mass) out.local_mass[k] = out.local_mass[from];
+          order[k] = k;
+          k = from;
+        }
+        out.pieces[k] = piece;
+        if (keep_mixed_mass) out.local_mass[k] = mass;
+        order[k] = k;
       }
     }
   } catch (const std::exception& e) {
