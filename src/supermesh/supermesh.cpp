@@ -408,12 +408,13 @@ class Worker {
   using TreeT = Tree<Dm::d>;
 
  public:
-  // The pieces' storage is reserved for this thread's share of a typical count (between 2.6
-  // and 9 pieces per cell of both meshes in the benchmarks): address space only until written,
-  // and growing it by copying is then rare.
-  Worker(const Shared<Mesh>& sh, int threads) : sh_(sh), mark_(sh.targets.size(), 0), values_(sh.values_per_piece) {
+  // The pieces' storage is reserved for a typical count of all the pieces (between 2.6 and 9
+  // per cell of both meshes in the benchmarks), not only this thread's share: address space
+  // only until written, growing it by copying is then rare, and the merge can append the other
+  // threads' pieces to it in place.
+  explicit Worker(const Shared<Mesh>& sh) : sh_(sh), mark_(sh.targets.size(), 0), values_(sh.values_per_piece) {
     const std::size_t cells = sh.sources.size() + sh.targets.size();
-    reserve_huge(pieces_, std::min<std::size_t>(10 * cells / static_cast<std::size_t>(threads), std::size_t{1} << 26));
+    reserve_huge(pieces_, std::min<std::size_t>(10 * cells, std::size_t{1} << 26));
   }
 
   const std::vector<Piece>& pieces() const { return pieces_; }
@@ -884,7 +885,7 @@ typename detail::Dim<Mesh>::Result build(
   {
     const int id = omp_get_thread_num();
     auto& w = workers[static_cast<std::size_t>(id)];
-    w = std::make_unique<Worker<Mesh>>(sh, threads);
+    w = std::make_unique<Worker<Mesh>>(sh);
 #pragma omp for schedule(dynamic, 1)
     for (std::int64_t c = 0; c < nchunks_i; ++c) {
       const Chunk& ch = chunks[static_cast<std::size_t>(c)];
