@@ -198,6 +198,30 @@ TEST(P1Loads, RemapFromTheMeshesIsBitForBitTheKeptOnes2D) {
   for (const auto& p : pairs2()) check_p1<TriMesh, tetia::P1Loads2>(p);
 }
 
+// A consumer whose compute() throws on one piece: the exception leaves supermesh(), on any
+// number of threads (an exception must not escape the OpenMP region the pieces are found in).
+struct Throwing final : tetia::PieceConsumer {
+  std::size_t values_per_piece() const override { return 1; }
+  void compute(const tetia::SupermeshPiece& piece, const tetia::Polyhedron&, double* values) const override {
+    if (piece.source == 7) throw std::runtime_error("no piece of source cell 7");
+    values[0] = 1.0;
+  }
+  void consume(const tetia::SupermeshPiece&, const double*) override { ++consumed; }
+  int consumed = 0;
+};
+
+TEST(PieceConsumer, AnExceptionInComputeLeavesTheSupermesh) {
+  const auto p = pairs3().front();
+  for (const int threads : {1, 2}) {
+    Throwing t;
+    SupermeshOptions o;
+    o.threads = threads;
+    EXPECT_EQ(tetia::testsupport::error_of([&] { tetia::supermesh(p.source, p.target, t, o); }),
+              "no piece of source cell 7");
+    EXPECT_EQ(t.consumed, 0);
+  }
+}
+
 TEST(PieceConsumer, BadArgumentsAreErrors) {
   const auto p = pairs3().front();
   Recorder<tetia::SupermeshPiece, tetia::Polyhedron> r;

@@ -110,7 +110,8 @@ Supermesh2 supermesh(const TriMesh& source, const TriMesh& target, const Superme
 ///  - compute(): while the pieces are found, concurrently on every thread, turns a piece and its
 ///    polyhedron (polygon; U / A = source cell, V / B = target cell) into values_per_piece()
 ///    numbers. It must not change shared state. Not called when values_per_piece() is 0, and the
-///    polyhedra are then not built (the search runs as for a kept supermesh without them).
+///    polyhedra are then not built. If it throws, the threads stop computing, and supermesh()
+///    rethrows the exception of the first thread (in thread order) that had one.
 ///  - consume(): then every piece with its numbers, in (target, source) order (the order of
 ///    Supermesh::pieces, with the same cell indices, volumes and moments bit for bit), on the
 ///    thread that called supermesh().

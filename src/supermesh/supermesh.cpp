@@ -3,8 +3,8 @@
 // adjacency or by an R-tree.
 //
 // One implementation for both dimensions: everything below is a template over the mesh type
-// (src/supermesh/dimension.hpp says what differs: the point and cell types, the kernel, volume or area);
-// the only dimension-specific function is faces_crossed, the certified side test. The text
+// (src/supermesh/dimension.hpp says what differs: the point and cell types, the kernel, volume or
+// area); the only dimension-specific function is faces_crossed, the certified side test. The text
 // speaks of tetrahedra, faces and volumes; in 2D read triangles, edges and areas (and "removing
 // segments" in the argument below becomes "removing points": it still does not disconnect an
 // open set of the plane).
@@ -87,8 +87,8 @@
 // kernel runs (in 3D on every candidate, in 2D on each piece after the fast path; the same
 // moments bit for bit). keep_polyhedra stores the whole polyhedron (polygon) per piece;
 // keep_mixed_mass computes the piece's local mixed mass matrix from it while it is at hand
-// (src/supermesh/mixed_mass.hpp, the function the remap uses on kept polyhedra) and stores only those 16
-// (9) numbers, merged in the same order as the pieces.
+// (src/supermesh/mixed_mass.hpp, the function the remap uses on kept polyhedra) and stores only
+// those 16 (9) numbers, merged in the same order as the pieces.
 #include "tetia/supermesh.hpp"
 
 #include <omp.h>
@@ -99,6 +99,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <exception>
 #include <iterator>
 #include <limits>
 #include <memory>
@@ -422,11 +423,18 @@ class Worker {
   const std::vector<Shape>& shapes() const { return shapes_; }
   const std::vector<LocalMass>& local_mass() const { return mass_; }
   const double* values(std::size_t piece) const { return values_.at(piece); }
+  // The first exception a consumer's compute() threw on this thread, if any.
+  const std::exception_ptr& error() const { return error_; }
 
   void run_chunk(Chunk& ch, int id, CandidateSearch search) {
     ch.worker = id;
     ch.first = pieces_.size();
     candidates_ = 0;
+    if (error_) {  // the consumer failed on this thread: nothing more is computed (see error())
+      ch.last = ch.first;
+      ch.candidates = 0;
+      return;
+    }
     if (search == CandidateSearch::rtree) {
       for (std::int32_t s = ch.begin; s < ch.end; ++s) {
         begin_cell(s);
@@ -508,8 +516,15 @@ class Worker {
     if (!(Dm::measure(m) > floor)) return false;
     if (shaped) {
       if constexpr (Dm::d == 2) shape_ = intersect(S_, T_);
-      if (sh_.values_per_piece != 0)  // the consumer's numbers, from the piece with its cells' indices
-        sh_.consumer->compute(Dm::piece(sh_.sources[static_cast<std::size_t>(s)].id, rec.id, m), shape_, values_.append());
+      if (sh_.values_per_piece != 0) {  // the consumer's numbers, from the piece with its cells' indices
+        // An exception must not leave an OpenMP region: it is kept, and rethrown after it.
+        double* values = values_.append();
+        try {
+          if (!error_) sh_.consumer->compute(Dm::piece(sh_.sources[static_cast<std::size_t>(s)].id, rec.id, m), shape_, values);
+        } catch (...) {
+          error_ = std::current_exception();
+        }
+      }
       if (sh_.keep_shapes) {
         reserve_for_one_more(shapes_);
         shapes_.push_back(shape_);
@@ -737,6 +752,7 @@ class Worker {
   std::vector<Shape> shapes_;
   std::vector<LocalMass> mass_;  // parallel to pieces_ when kept
   PieceValues values_;           // a consumer's values_per_piece numbers per piece, parallel to pieces_
+  std::exception_ptr error_;     // see error()
   std::size_t candidates_ = 0;
   bool crossed_risky_ = false;  // a positive target's risky face crossed by s (flood)
   double covered_ = 0.0;  // volume of s's pieces found so far
@@ -897,6 +913,8 @@ typename detail::Dim<Mesh>::Result build(
       }
     }
   }
+  for (const auto& w : workers)  // the first thread's whose consumer failed, once every thread is done
+    if (w && w->error()) std::rethrow_exception(w->error());
   if (options.progress) options.progress(ns, ns);
 
   // The merge, sorted by (target, source): a counting sort by target whose input is read in
