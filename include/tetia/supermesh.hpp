@@ -112,11 +112,11 @@ Supermesh2 supermesh(const TriMesh& source, const TriMesh& target, const Superme
 ///    numbers. It must not change shared state. Not called when values_per_piece() is 0, and the
 ///    polyhedra are then not built. If it throws, the threads stop computing, and supermesh()
 ///    rethrows the exception of the first thread (in thread order) that had one.
-///  - consume(): then every piece with its numbers, in (target, source) order (the order of
-///    Supermesh::pieces, with the same cell indices, volumes and moments bit for bit), on the
-///    thread that called supermesh().
+///  - consume(): then every piece with its numbers (null when values_per_piece() is 0), in
+///    (target, source) order (the order of Supermesh::pieces, with the same cell indices, volumes
+///    and moments bit for bit), on the thread that called supermesh().
 /// Held meanwhile: each piece's record (SupermeshPiece: 40 B in 3D, 32 B in 2D), its numbers,
-/// and 16 B to order them; never the polyhedra.
+/// and 8 B to order them; never the polyhedra.
 template <class Piece, class Shape>
 class BasicPieceConsumer {
  public:
