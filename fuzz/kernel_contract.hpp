@@ -17,11 +17,11 @@
 //                            nearest double
 //   mismatch[ENTRY]          entry point ENTRY does not return v bit for bit (3D: V and U
 //                            swapped, intersect with and without stats, intersection_moments,
-//                            the supermesh's OneToMany; 2D: the same but OneToMany, and a
-//                            reordering of the vertices, which tri_intersection.hpp promises to
-//                            give the same polygon bit for bit)
-//   one-to-many-moments      OneToMany's first moments differ from intersection_moments' (its
-//                            header promises the same bits)
+//                            the supermesh's OneToMany, moments and full; 2D: the same but
+//                            OneToMany, and a reordering of the vertices, which
+//                            tri_intersection.hpp promises to give the same polygon bit for bit)
+//   one-to-many-moments      OneToMany's first moments (either path) differ from
+//                            intersection_moments' (its header promises the same bits)
 //   moments-nonfinite        a first moment of intersection_moments or of intersect is NaN, or
 //                            infinite although the exact one is certainly below DBL_MAX / 4
 //                            (|first| <= exact intersection x largest |coordinate|)
@@ -365,7 +365,10 @@ inline std::string check_tet_contract(const Tet& U, const Tet& V) {
   const Polyhedron P = intersect(U, V);
   const Polyhedron P_stats = intersect(U, V, &stats);
   const Moments M = intersection_moments(U, V);
-  const Moments M_one = tetia::detail::OneToMany(U).moments(V, tetia::detail::conditioning(V));
+  const tetia::detail::OneToMany one(U);
+  const Moments M_one = one.moments(V, tetia::detail::conditioning(V));
+  Polyhedron P_one;  // the supermesh's full path, where shapes are needed
+  const Moments M_one_full = one.intersect(V, tetia::detail::conditioning(V), P_one);
   detail::Observed<Vec3> o;
   o.v = intersection_volume(U, V);
   o.entries = {
@@ -375,6 +378,7 @@ inline std::string check_tet_contract(const Tet& U, const Tet& V) {
       {"intersect(V, U).volume()", intersect(V, U).volume()},
       {"intersection_moments(U, V).volume", M.volume},
       {"OneToMany(U).moments(V, conditioning(V)).volume", M_one.volume},
+      {"OneToMany(U).intersect(V, conditioning(V), P).volume", M_one_full.volume},
   };
   o.first_moments = {{"intersection_moments(U, V).first", M.first},
                      {"intersect(U, V).moments().first", P.moments().first}};
@@ -390,6 +394,10 @@ inline std::string check_tet_contract(const Tet& U, const Tet& V) {
   if (!same(M_one.first, M.first)) {
     report += (report.empty() ? "" : "; ") + std::string("one-to-many-moments: OneToMany first ") +
               detail::str(M_one.first) + ", intersection_moments first " + detail::str(M.first);
+  }
+  if (!same(M_one_full.first, M.first)) {
+    report += (report.empty() ? "" : "; ") + std::string("one-to-many-moments: OneToMany::intersect first ") +
+              detail::str(M_one_full.first) + ", intersection_moments first " + detail::str(M.first);
   }
   return report;
 }
