@@ -54,6 +54,7 @@
 #include <boost/geometry/index/rtree.hpp>
 
 #include "../morton.hpp"
+#include "../permute.hpp"
 #include "../supermesh/mixed_mass.hpp"
 #include "exchange.hpp"
 #include "tetia/mesh.hpp"
@@ -361,22 +362,13 @@ Exchanged exchange_and_intersect(const MeshPart& source, std::span<const double>
                          out.source_ids[static_cast<std::size_t>(out.pieces[k].source)]};
       };
       std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
-      for (std::size_t start = 0; start < n; ++start) {  // follow each cycle once; done: order[k] = k
-        if (order[start] == start) continue;
-        const SupermeshPiece piece = out.pieces[start];
-        const std::array<double, 16> mass = keep_mixed_mass ? out.local_mass[start] : std::array<double, 16>{};
-        std::size_t k = start;
-        while (order[k] != start) {
-          const std::size_t from = order[k];
-          out.pieces[k] = out.pieces[from];
-          if (keep_mixed_mass) out.local_mass[k] = out.local_mass[from];
-          order[k] = k;
-          k = from;
-        }
-        out.pieces[k] = piece;
-        if (keep_mixed_mass) out.local_mass[k] = mass;
-        order[k] = k;
-      }
+      std::vector<std::size_t> place(n);  // where the piece now at k goes
+      for (std::size_t k = 0; k < n; ++k) place[order[k]] = k;
+      order = {};
+      tetia::detail::permute_to(place, [&](std::size_t i, std::size_t j) {
+        std::swap(out.pieces[i], out.pieces[j]);
+        if (keep_mixed_mass) std::swap(out.local_mass[i], out.local_mass[j]);
+      });
     }
   } catch (const std::exception& e) {
     error = e.what();

@@ -123,6 +123,7 @@
 #include "mixed_mass.hpp"
 #include "../compensated_sum.hpp"
 #include "../morton.hpp"
+#include "../permute.hpp"
 #include "tetia/tet_intersection.hpp"
 #include "tetia/tri_intersection.hpp"
 
@@ -975,12 +976,7 @@ typename detail::Dim<Mesh>::Result build(
         out.pieces.insert(out.pieces.end(), pcs.begin(), pcs.end());
         pcs = {};
       }
-    for (std::size_t k = 0; k < total; ++k)
-      while (place[k] != k) {
-        const std::uint32_t j = place[k];
-        std::swap(out.pieces[k], out.pieces[j]);
-        std::swap(place[k], place[j]);
-      }
+    detail::permute_to(place, [&](std::size_t i, std::size_t j) { std::swap(out.pieces[i], out.pieces[j]); });
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;
   }
