@@ -55,15 +55,14 @@ inline void check_size(std::size_t got, std::size_t want, const char* who, const
 
 inline std::size_t idx(std::int32_t i) { return static_cast<std::size_t>(i); }
 
-// Calls f(target cell's nodes, source cell's nodes, A) for each piece in (target, source) order,
-// A its local mixed mass matrix (row-major, nv x nv): kept by the supermesh, or computed here
-// from the kept shape (src/supermesh/mixed_mass.hpp), the same values either way. Pieces without a shape
-// (never one of positive volume) are skipped.
+// Calls f(piece, A) for each piece in (target, source) order, A its local mixed mass matrix
+// (row-major, nv x nv: target cell's basis i times source cell's basis j): kept by the
+// supermesh, or computed here from the kept shape (src/supermesh/mixed_mass.hpp), the same values
+// either way. Pieces without a shape (never one of positive volume) are skipped.
 template <class Mesh, class F>
-void for_each_local_mass(const typename detail::Dim<Mesh>::Result& s, MassSource from, F&& f) {
+void for_each_piece_mass(const typename detail::Dim<Mesh>::Result& s, MassSource from, F&& f) {
   using Dm = detail::Dim<Mesh>;
   const Mesh& src = *s.source;
-  const Mesh& tgt = *s.target;
   const auto& shapes = Dm::shapes(s);
   const auto& kept = Dm::local_mass(s);
   typename Dm::LocalMass local{};
@@ -74,8 +73,18 @@ void for_each_local_mass(const typename detail::Dim<Mesh>::Result& s, MassSource
       if (P.empty()) continue;  // never for a piece of positive volume
       detail::piece_mixed_mass<Mesh>(src.cell(idx(pc.source)), P, local);
     }
-    f(tgt.cells[idx(pc.target)], src.cells[idx(pc.source)], from == MassSource::local_mass ? kept[k] : local);
+    f(pc, from == MassSource::local_mass ? kept[k] : local);
   }
+}
+
+// The same with the target and source cells' nodes: f(target cell's nodes, source cell's nodes, A).
+template <class Mesh, class F>
+void for_each_local_mass(const typename detail::Dim<Mesh>::Result& s, MassSource from, F&& f) {
+  const Mesh& src = *s.source;
+  const Mesh& tgt = *s.target;
+  for_each_piece_mass<Mesh>(s, from, [&](const auto& pc, const auto& A) {
+    f(tgt.cells[idx(pc.target)], src.cells[idx(pc.source)], A);
+  });
 }
 
 // M_ts from the pieces' local mixed mass matrices; the triplets come in the same order whatever

@@ -1,0 +1,107 @@
+// tetia/remap_methods.hpp -- conservative remap methods beyond Galerkin P0 and P1
+// (tetia/remap.hpp): lumped and bounded P1, discontinuous P1, and second-order cell averages by
+// a limited linear reconstruction. All of them on the exact supermesh, for tetrahedral
+// (Supermesh) and triangular (Supermesh2) meshes alike; read area for volume in 2D.
+//
+// Conventions shared with tetia/remap.hpp: the source field counts as zero outside the source
+// domain (the target integral equals the source integral over the overlap, whatever the
+// coverage); results are per target node (continuous P1), per target cell (P0), or per target
+// cell and vertex, in the order of the cell's nodes (discontinuous P1: nv = d + 1 values a cell,
+// row-major). Every function needs the supermesh's local mixed mass matrices
+// (SupermeshOptions::keep_mixed_mass, or keep_polyhedra) except remap_p0_linear, which uses only
+// the pieces' volumes and first moments. Sizes that do not match throw std::invalid_argument.
+//
+// - remap_p1_lumped: u_i = (M_ts u_s)_i / m_i, m_i = sum_j (M_t)_ij the lumped target mass (the
+//   integral of basis function i). First order. Each u_i is an average of the source field over
+//   the support of basis function i weighted by that function (zero where the source does not
+//   cover it), so it lies within the local bounds below; sum_i m_i u_i = sum_i (M_ts u_s)_i, the
+//   source integral over the overlap, to rounding.
+// - p1_local_bounds: per target node i, the least and largest source nodal value on the source
+//   cells that overlap the support of basis function i (the target cells around node i); 0 is
+//   included where that support is not fully covered (the field is zero outside the source), and
+//   both bounds are 0 where nothing covers it.
+// - remap_p1_bounded: the Galerkin solution (remap_p1) corrected by clip-and-assured-sum (CAAS,
+//   Bradley, Bosler and Guba 2019): each nodal value clipped to its local bounds, then the mass
+//   the clipping moved, Q - sum_i m_i c_i with Q = sum_i (M_ts u_s)_i, given back to the nodes in
+//   proportion to m_i times their room to the bound on the side that receives it. Why CAAS: it
+//   changes only nodes that violate their bounds and those with room, is one pass with no
+//   iteration, is always feasible here (the lumped solution is within the bounds and carries Q
+//   to rounding), and leaves the Galerkin solution untouched where it is in bounds, so that linear
+//   fields (which are, up to the solver's rounding) are reproduced where the domains coincide.
+//   Every value is within its local bounds exactly (not to rounding: a step stays in [0, 1]).
+//   Conservation is exact to rounding, better than the Galerkin solve's tolerance, since Q itself
+//   is the target.
+// - remap_p1_discontinuous: the L2 projection onto discontinuous P1 on the target, per cell: the
+//   cell's consistent mass matrix |T| / ((d + 1)(d + 2)) (I + J) has the closed-form inverse
+//   (d + 1)(d + 2) / |T| (I - J / (d + 2)), so u_T = (d + 1)(d + 2) / |T| (b_T - sum(b_T) / (d + 2))
+//   with b_T the cell's loads; no global solve. Exact for linear fields on fully covered cells;
+//   conserves per target cell. The source is continuous P1 (one value per source node) or
+//   discontinuous P1 (nv values per source cell: P1Source::discontinuous).
+// - remap_p0_from_discontinuous: cell averages (P0) on the target from a discontinuous P1 source:
+//   u_T = sum over pieces of the integral of the source's linear function on the piece, / |T|
+//   (or / the covered volume, as remap_p0's normalization).
+// - remap_p0_linear: second-order conservative remap of cell averages. Per source cell, a
+//   gradient by least squares over its face neighbours' averages (centroid differences as the
+//   directions), limited by Barth and Jespersen: scaled by the largest factor in [0, 1] for which
+//   the reconstruction at the cell's vertices stays within the least and largest average of the
+//   cell and its vertex neighbours (the cells sharing a vertex with it: an interior vertex lies
+//   among their centroids, so linear fields are not clipped there; they are also the gradient's
+//   stencil where the face neighbours do not span the space). Each piece then carries the
+//   integral of the reconstruction, u_S |P| + g_S . (first moments of P - c_S |P|), exactly (c_S the source cell's centroid), so
+//   the source cell's own integral is unchanged (conservative) and the target averages are
+//   weighted averages of bounded linear functions (bounded by the neighbourhoods' averages).
+//   A cell whose neighbours do not span the space (an isolated cell), or whose gradient is not
+//   finite (coordinates near the overflow threshold), keeps a zero gradient: first order there.
+//   `groups`, if given, names each simplex's group (for instance its file cell,
+//   TetMesh::cell_origin): the reconstruction is then per group (one average, one gradient, the
+//   group's centroid; neighbours are groups sharing a face), and the values are given per
+//   simplex, equal within a group.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "tetia/remap.hpp"
+#include "tetia/supermesh.hpp"
+
+namespace tetia {
+
+enum class P1Source { continuous, discontinuous };
+
+struct P1Bounds {
+  std::vector<double> lower, upper;  ///< per target node
+};
+
+std::vector<double> remap_p1_lumped(const Supermesh& s, std::span<const double> source_node_values);
+P1Bounds p1_local_bounds(const Supermesh& s, std::span<const double> source_node_values);
+std::vector<double> remap_p1_bounded(const Supermesh& s, std::span<const double> source_node_values,
+                                     P1RemapReport* report = nullptr);
+std::vector<double> remap_p1_discontinuous(const Supermesh& s, std::span<const double> source_values,
+                                           P1Source source = P1Source::continuous);
+std::vector<double> remap_p0_from_discontinuous(const Supermesh& s, std::span<const double> source_cell_node_values,
+                                                P0Normalization normalization = P0Normalization::cell_volume);
+std::vector<double> remap_p0_linear(const Supermesh& s, std::span<const double> source_cell_values,
+                                    P0Normalization normalization = P0Normalization::cell_volume,
+                                    std::span<const std::int32_t> groups = {});
+
+std::vector<double> remap_p1_lumped(const Supermesh2& s, std::span<const double> source_node_values);
+P1Bounds p1_local_bounds(const Supermesh2& s, std::span<const double> source_node_values);
+std::vector<double> remap_p1_bounded(const Supermesh2& s, std::span<const double> source_node_values,
+                                     P1RemapReport* report = nullptr);
+std::vector<double> remap_p1_discontinuous(const Supermesh2& s, std::span<const double> source_values,
+                                           P1Source source = P1Source::continuous);
+std::vector<double> remap_p0_from_discontinuous(const Supermesh2& s, std::span<const double> source_cell_node_values,
+                                                P0Normalization normalization = P0Normalization::cell_volume);
+std::vector<double> remap_p0_linear(const Supermesh2& s, std::span<const double> source_cell_values,
+                                    P0Normalization normalization = P0Normalization::cell_volume,
+                                    std::span<const std::int32_t> groups = {});
+
+/// Helpers for discontinuous P1 fields: the values of a continuous one per cell and vertex, and
+/// the integral of a discontinuous one (sum over cells of |T| / nv times its nv values).
+std::vector<double> discontinuous_from_nodes(const TetMesh& mesh, std::span<const double> node_values);
+std::vector<double> discontinuous_from_nodes(const TriMesh& mesh, std::span<const double> node_values);
+double integral_discontinuous(const TetMesh& mesh, std::span<const double> cell_node_values);
+double integral_discontinuous(const TriMesh& mesh, std::span<const double> cell_node_values);
+
+}  // namespace tetia
