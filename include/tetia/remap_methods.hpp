@@ -24,10 +24,11 @@
 //   Bradley, Bosler and Guba 2019): each nodal value clipped to its local bounds, then the mass
 //   the clipping moved, Q - sum_i m_i c_i with Q = sum_i (M_ts u_s)_i, given back to the nodes in
 //   proportion to m_i times their room to the bound on the side that receives it. Why CAAS: it
-//   changes only nodes that violate their bounds and those with room, is one pass with no
-//   iteration, is always feasible here (the lumped solution is within the bounds and carries Q
-//   to rounding), and leaves the Galerkin solution untouched where it is in bounds, so that linear
-//   fields (which are, up to the solver's rounding) are reproduced where the domains coincide.
+//   is one pass with no iteration, is always feasible here (the lumped solution is within the
+//   bounds and carries Q to rounding), and where no value leaves its bounds it moves the
+//   Galerkin solution only by the solve's residual mass, so that linear fields (within their
+//   bounds up to the solver's rounding) are reproduced where the domains coincide. Where values
+//   are clipped, the mass goes to every node with room, in bounds or not.
 //   Every value is within its local bounds exactly (not to rounding: a step stays in [0, 1]).
 //   Conservation is exact to rounding, better than the Galerkin solve's tolerance, since Q itself
 //   is the target.
