@@ -125,6 +125,18 @@ Eigen::VectorXd mixed_mass_times(const typename detail::Dim<Mesh>::Result& s, Ma
   return b;
 }
 
+// P0's division of each target cell's integral by its measure (cell_volume) or its covered
+// measure (covered_volume); 0 where that is 0.
+template <class Mesh>
+void divide_by_p0_denominator(const Mesh& target, std::vector<double>& integrals, const std::vector<double>& covered,
+                              P0Normalization normalization) {
+  const auto& measures = detail::Dim<Mesh>::measures(target);
+  for (std::size_t t = 0; t < integrals.size(); ++t) {
+    const double den = normalization == P0Normalization::covered_volume ? covered[t] : measures[t];
+    integrals[t] = den > 0.0 ? integrals[t] / den : 0.0;
+  }
+}
+
 template <class Mesh>
 SpMat consistent_mass(const Mesh& m, bool unit_for_unused) {
   using Dm = detail::Dim<Mesh>;

@@ -90,11 +90,7 @@ std::vector<double> p0_from_discontinuous(const typename detail::Dim<Mesh>::Resu
     num[idx(pc.target)] += acc;
     cov[idx(pc.target)] += Dm::measure(pc);
   });
-  const auto& measures = Dm::measures(tgt);
-  for (std::size_t t = 0; t < tgt.num_cells(); ++t) {
-    const double den = normalization == P0Normalization::covered_volume ? cov[t] : measures[t];
-    num[t] = den > 0.0 ? num[t] / den : 0.0;
-  }
+  divide_by_p0_denominator(tgt, num, cov, normalization);
   return num;
 }
 

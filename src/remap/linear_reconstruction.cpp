@@ -191,11 +191,7 @@ std::vector<double> linear(const typename detail::Dim<Mesh>::Result& s, std::spa
     num[idx(pc.target)] += integral;
     cov[idx(pc.target)] += m;
   }
-  const auto& tm = Dm::measures(tgt);
-  for (std::size_t t = 0; t < tgt.num_cells(); ++t) {
-    const double den = normalization == P0Normalization::covered_volume ? cov[t] : tm[t];
-    num[t] = den > 0.0 ? num[t] / den : 0.0;
-  }
+  divide_by_p0_denominator(tgt, num, cov, normalization);
   return num;
 }
 

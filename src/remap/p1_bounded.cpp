@@ -53,7 +53,9 @@ NodeSums node_sums(const typename detail::Dim<Mesh>::Result& s, std::span<const 
   const Mesh& tgt = *s.target;
   const Mesh& src = *s.source;
   NodeSums r;
-  r.load = mixed_mass_times<Mesh>(s, from, u);
+  // The loads as mixed_mass_times forms them (the same products and sums in the same order, so
+  // the same bits as remap_p1's), in the one pass over the pieces that also sums the rest.
+  r.load = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(tgt.num_nodes()));
   r.mass = lumped_mass(tgt);
   const std::size_t n = tgt.num_nodes();
   r.covered.assign(n, 0.0);
@@ -66,11 +68,17 @@ NodeSums node_sums(const typename detail::Dim<Mesh>::Result& s, std::span<const 
       lo = std::min(lo, u[idx(sn[j])]);
       hi = std::max(hi, u[idx(sn[j])]);
     }
+    double us[nv];
+    for (std::size_t j = 0; j < nv; ++j) us[j] = u[idx(sn[j])];
     const auto& tn = tgt.cells[idx(pc.target)];
     for (std::size_t i = 0; i < nv; ++i) {
-      double row = 0.0;
-      for (std::size_t j = 0; j < nv; ++j) row += A[i * nv + j];
+      double row = 0.0, acc = 0.0;
+      for (std::size_t j = 0; j < nv; ++j) {
+        row += A[i * nv + j];
+        acc += A[i * nv + j] * us[j];
+      }
       const std::size_t node = idx(tn[i]);
+      r.load[tn[i]] += acc;
       r.covered[node] += row;
       r.lower[node] = std::min(r.lower[node], lo);
       r.upper[node] = std::max(r.upper[node], hi);
