@@ -189,13 +189,17 @@ std::string xml_escape(const std::string& s) {
   return out;
 }
 
-// Gmsh's $NodeData / $ElementData block for one field at time step 0, entity i at tag tags[i].
-void write_msh_data(TextOut& out, const char* section, const Field& f, const std::vector<std::int64_t>& tags) {
-  const auto nc = static_cast<std::size_t>(f.components);
+// Gmsh's $NodeData / $ElementData block for one field at time step 0, entity i at tag tags[i];
+// with `nodes` > 0 $ElementNodeData: each entity (a cell) "tag nodes" and that many nodes'
+// values (the field's values are then nodes * components per cell).
+void write_msh_data(TextOut& out, const char* section, const Field& f, const std::vector<std::int64_t>& tags,
+                    int nodes = 0) {
+  const auto nc = static_cast<std::size_t>(f.components) * static_cast<std::size_t>(nodes > 0 ? nodes : 1);
   const std::size_t n = f.values.size() / nc;
   out << '$' << section << "\n1\n\"" << f.name << "\"\n1\n0\n3\n0\n" << f.components << '\n' << n << '\n';
   for (std::size_t i = 0; i < n; ++i) {
     out << tags[i];
+    if (nodes > 0) out << ' ' << nodes;
     for (std::size_t k = 0; k < nc; ++k) out << ' ' << f.values[i * nc + k];
     out << '\n';
   }
@@ -213,6 +217,16 @@ struct ParsedFile {
 
 // Nodes by increasing tag (all of the file's nodes, used or not), first-order cells of every
 // entity and physical group by increasing tag, each node set once; then finalize(mesh, FILE).
+// Element-node data is read on the final simplices (after finalize reorients them), each vertex
+// found among its element's nodes: `ex` is finalized here, its cells in the file's node order
+// kept for that first (where no cell is split; split cells keep theirs in origin_nodes).
+template <class Mesh>
+void finalize_for_cell_nodes(detail::Extracted<Mesh>& ex, const std::string& name,
+                             std::vector<std::array<std::int32_t, detail::MeshDim<Mesh>::nv>>& file_cells) {
+  if (ex.mesh.cell_origin.empty()) file_cells = ex.mesh.cells;
+  detail::finalize_extracted(ex, name);
+}
+
 template <class Mesh>
 Mesh read(const ParsedFile& f, const std::string& name, MeshReadInfo* info, const MeshReadOptions& options) {
   if (!options.fields.empty() && info == nullptr)
@@ -221,12 +235,23 @@ Mesh read(const ParsedFile& f, const std::string& name, MeshReadInfo* info, cons
       info != nullptr ? detail::msh_views(f.msh, !options.fields.empty()) : std::vector<ViewData>{};
   detail::Extracted<Mesh> ex = detail::extract_msh<Mesh>(f.msh, name, options.corner_nodes);
   std::vector<Field> fields;
-  for (const std::string& field : options.fields) {
-    Field out{field, {}, 1};
-    out.values = field_values(name, ex, views, field, options.fields_on_cells, options.step, &out.components);
-    fields.push_back(std::move(out));
+  const bool on_cell_nodes = options.fields_on_cell_nodes && !options.fields.empty();
+  if (on_cell_nodes) {
+    std::vector<std::array<std::int32_t, detail::MeshDim<Mesh>::nv>> file_cells;
+    finalize_for_cell_nodes(ex, name, file_cells);
+    for (const std::string& field : options.fields) {
+      Field out{field, {}, 1};
+      out.values = detail::cell_node_values(name, ex, file_cells, views, field, options.step, &out.components);
+      fields.push_back(std::move(out));
+    }
+  } else {
+    for (const std::string& field : options.fields) {
+      Field out{field, {}, 1};
+      out.values = field_values(name, ex, views, field, options.fields_on_cells, options.step, &out.components);
+      fields.push_back(std::move(out));
+    }
   }
-  Mesh mesh = detail::finish_read(std::move(ex), name, views, info);
+  Mesh mesh = detail::finish_read(std::move(ex), name, views, info, on_cell_nodes);
   if (info != nullptr) info->fields = std::move(fields);
   return mesh;
 }
@@ -429,17 +454,24 @@ void vtu(const std::filesystem::path& file, const Mesh& mesh, const std::vector<
 // volume (surface, for triangles: z = 0) holding every node and cell, tagged with the mesh's
 // tags (1, 2, ... by position without), so that the reader gives back the same mesh; a mesh
 // with split file cells as the file's cells, one block per element type; one $NodeData /
-// $ElementData per field (time step 0).
+// $ElementData / $ElementNodeData per field (time step 0).
 template <class Mesh>
 void msh(const std::filesystem::path& file, const Mesh& mesh, const std::vector<Field>& cell_data,
-         const std::vector<Field>& point_data) {
+         const std::vector<Field>& point_data, const std::vector<Field>& cell_node_data) {
   using Dm = detail::MeshDim<Mesh>;
   const std::string name = file.string();
   check_mesh(name, mesh);
   // A mesh with split file cells is written as the file's cells, one element block per type.
   const bool file_cells = !mesh.cell_origin.empty();
+  // Element-node data is per simplex vertex: written on the file's cells, a hexahedron's nodes
+  // could get several values from its simplices, and a reader would split it anew.
+  if (file_cells && !cell_node_data.empty())
+    throw std::invalid_argument("tetia: " + name + ": element-node data needs a simplicial mesh (this one has " +
+                                std::to_string(mesh.num_file_cells()) + " file cells split into " +
+                                std::to_string(mesh.cells.size()) + " " + Dm::cells_word + ")");
   check_fields(name, cell_data, file_cells ? mesh.num_file_cells() : mesh.cells.size());
   check_fields(name, point_data, mesh.nodes.size());
+  check_fields(name, cell_node_data, mesh.cells.size() * Dm::nv);
   std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
   for (int d = 0; d < Dm::d; ++d) lo[d] = hi[d] = Dm::coord(mesh.nodes.front(), d);
   for (const auto& p : mesh.nodes)
@@ -501,6 +533,7 @@ void msh(const std::filesystem::path& file, const Mesh& mesh, const std::vector<
   out << "$EndElements\n";
   for (const auto& f : point_data) write_msh_data(out, "NodeData", f, node_tags);
   for (const auto& f : cell_data) write_msh_data(out, "ElementData", f, cell_tags);
+  for (const auto& f : cell_node_data) write_msh_data(out, "ElementNodeData", f, cell_tags, static_cast<int>(Dm::nv));
   out.close();
 }
 
@@ -539,6 +572,16 @@ std::vector<double> read_msh_field(const std::filesystem::path& file, const std:
   const std::string name = file.string();
   const ParsedFile f(file, name);
   const std::vector<ViewData> views = detail::msh_views(f.msh, true);
+  if (options.fields_on_cell_nodes) {
+    const auto per_vertex = [&]<class Mesh>(detail::Extracted<Mesh> ex) {
+      std::vector<std::array<std::int32_t, detail::MeshDim<Mesh>::nv>> file_cells;
+      finalize_for_cell_nodes(ex, name, file_cells);
+      return detail::cell_node_values(name, ex, file_cells, views, field_name, step, components);
+    };
+    if (detail::msh_dimension(f.msh) == 2)
+      return per_vertex(detail::extract_msh<TriMesh>(f.msh, name, options.corner_nodes));
+    return per_vertex(detail::extract_msh<TetMesh>(f.msh, name, options.corner_nodes));
+  }
   if (detail::msh_dimension(f.msh) == 2)
     return field_values(name, detail::extract_msh<TriMesh>(f.msh, name, options.corner_nodes), views, field_name,
                         on_cells, step, components);
@@ -552,9 +595,11 @@ std::vector<FieldInfo> msh_fields(const std::filesystem::path& file) {
   std::vector<FieldInfo> out;
   for (const detail::MshData& d : f.msh.data) {
     if (d.tags.empty()) continue;
-    auto it = std::find_if(out.begin(), out.end(),
-                           [&](const FieldInfo& x) { return x.name == d.name && x.on_cells == d.on_elements; });
-    if (it == out.end()) it = out.insert(out.end(), FieldInfo{d.name, d.on_elements, d.components, {}});
+    auto it = std::find_if(out.begin(), out.end(), [&](const FieldInfo& x) {
+      return x.name == d.name && x.on_cells == d.on_elements && x.on_cell_nodes == d.on_element_nodes;
+    });
+    if (it == out.end())
+      it = out.insert(out.end(), FieldInfo{d.name, d.on_elements, d.components, {}, d.on_element_nodes});
     if (std::find(it->steps.begin(), it->steps.end(), d.step) == it->steps.end()) it->steps.push_back(d.step);
   }
   for (auto& fi : out) std::sort(fi.steps.begin(), fi.steps.end());
@@ -571,12 +616,12 @@ void write_vtu(const std::filesystem::path& file, const TriMesh& mesh, const std
 }
 
 void write_msh(const std::filesystem::path& file, const TetMesh& mesh, const std::vector<Field>& cell_data,
-               const std::vector<Field>& point_data) {
-  msh(file, mesh, cell_data, point_data);
+               const std::vector<Field>& point_data, const std::vector<Field>& cell_node_data) {
+  msh(file, mesh, cell_data, point_data, cell_node_data);
 }
 void write_msh(const std::filesystem::path& file, const TriMesh& mesh, const std::vector<Field>& cell_data,
-               const std::vector<Field>& point_data) {
-  msh(file, mesh, cell_data, point_data);
+               const std::vector<Field>& point_data, const std::vector<Field>& cell_node_data) {
+  msh(file, mesh, cell_data, point_data, cell_node_data);
 }
 
 namespace detail {

@@ -47,6 +47,8 @@ struct MeshReadInfo {
   /// The fields MeshReadOptions::fields asked for, in that order, as read_msh_field gives them
   /// (with their components), read in the same pass as the mesh.
   std::vector<Field> fields;
+  /// Names of element-node data ($ElementNodeData) found in the file (if any).
+  std::vector<std::string> cell_node_fields;
 };
 
 struct MeshReadOptions {
@@ -55,10 +57,22 @@ struct MeshReadOptions {
   /// cells is an error that says so.
   bool corner_nodes = false;
   /// Fields to read with the mesh (into MeshReadInfo::fields, which must then be given):
-  /// element data if fields_on_cells, else node data, at time step `step` (as read_msh_field).
+  /// element data if fields_on_cells, else node data (element-node data if
+  /// fields_on_cell_nodes), at time step `step` (as read_msh_field).
   std::vector<std::string> fields;
   bool fields_on_cells = true;
   std::int64_t step = kOnlyStep;
+  /// Read `fields` from element-node data ($ElementNodeData: discontinuous fields, one value
+  /// per node of each element) instead, whatever fields_on_cells says. Each Field then holds,
+  /// per simplex c of the returned mesh (mesh.cells, after the split of hexahedra, prisms,
+  /// pyramids and quadrilaterals and the reorientation of inverted cells), per vertex k of it
+  /// (mesh.cells[c][k]), `components` values: value j at index (c * nv + k) * components + j
+  /// (nv = 4 for tetrahedra, 3 for triangles), the one its element (its file cell) has at that
+  /// node, found by the node (not by its position, which splitting and reorienting change);
+  /// cells of order > 1 read by their corners give their corners' values. Errors name the
+  /// field and the element: an entry whose number of nodes is not its element type's, a cell
+  /// without a value, a tag given twice.
+  bool fields_on_cell_nodes = false;
 };
 
 TetMesh read_mesh(const std::filesystem::path& file, MeshReadInfo* info = nullptr, const MeshReadOptions& options = {});
@@ -82,7 +96,10 @@ AnyMesh read_any_mesh(const std::filesystem::path& file, MeshReadInfo* info = nu
 /// `on_cells` says which. `step`: the time step (the data block's first integer tag), or
 /// kOnlyStep. With `components`, fields of any number of components are read (each entity's
 /// values in a row; *components receives how many); without, only scalar ones. Throws if the
-/// field or the step is absent, a node or cell has no value, or a tag has two.
+/// field or the step is absent, a node or cell has no value, or a tag has two. With
+/// options.fields_on_cell_nodes, reads element-node data instead (whatever `on_cells` says), as
+/// MeshReadOptions::fields_on_cell_nodes describes: per vertex of the simplices of read_mesh's
+/// (or read_tri_mesh's) mesh, finalized.
 std::vector<double> read_msh_field(const std::filesystem::path& file, const std::string& name, bool on_cells,
                                    std::int64_t step = kOnlyStep, int* components = nullptr,
                                    const MeshReadOptions& options = {});
@@ -90,9 +107,10 @@ std::vector<double> read_msh_field(const std::filesystem::path& file, const std:
 /// What a field of a .msh file is: its name, kind, components, and the time steps with values.
 struct FieldInfo {
   std::string name;
-  bool on_cells = false;
+  bool on_cells = false;  ///< element data (false for node data and element-node data)
   int components = 1;
   std::vector<std::int64_t> steps;  ///< ascending
+  bool on_cell_nodes = false;  ///< element-node data ($ElementNodeData)
 };
 
 /// The fields of a .msh file, in the order they first appear.
@@ -131,10 +149,14 @@ void write_vtu(const std::filesystem::path& file, const TriMesh& mesh, const std
 
 /// Gmsh .msh 4.1 ASCII, with node and element data (triangles at z = 0); a mesh with split file
 /// cells is written as the file's cells (element data per file cell), with their tags.
+/// `cell_node_data`: element-node data ($ElementNodeData), the layout of
+/// MeshReadOptions::fields_on_cell_nodes (per simplex, per vertex, the components), which reads
+/// it back bit for bit; it needs a mesh without split file cells (std::invalid_argument
+/// otherwise: its simplices are not the file's cells).
 void write_msh(const std::filesystem::path& file, const TetMesh& mesh, const std::vector<Field>& cell_data = {},
-               const std::vector<Field>& point_data = {});
+               const std::vector<Field>& point_data = {}, const std::vector<Field>& cell_node_data = {});
 void write_msh(const std::filesystem::path& file, const TriMesh& mesh, const std::vector<Field>& cell_data = {},
-               const std::vector<Field>& point_data = {});
+               const std::vector<Field>& point_data = {}, const std::vector<Field>& cell_node_data = {});
 
 /// Meshes generated with the Gmsh library at element size h.
 TetMesh generate_box(Vec3 lo, Vec3 hi, double h);

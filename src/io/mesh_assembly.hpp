@@ -112,6 +112,11 @@ struct Extracted {
   std::size_t ignored = 0;          // elements of other types, and repeated cells
   std::size_t higher_order = 0;     // elements of other types that are cells of order > 1
   std::size_t straightened = 0;     // cells of order > 1 kept by their corner nodes
+  // Where cells of order > 1 were kept by their corners (straightened > 0): each file cell's
+  // number of nodes in the file, in cell_index's order (the mesh's cells, or its file cells
+  // where cells are split), which $ElementNodeData entries must give. Empty otherwise: each
+  // has its first-order type's. (The strict reader only; the Gmsh model path leaves it empty.)
+  std::vector<std::uint8_t> element_nodes;
 };
 
 // Gmsh's element types of the cells read: the 4-node tetrahedron and the 3-node triangle, and
@@ -204,14 +209,16 @@ inline void check_planar(const std::string& name, const std::vector<Vec2>& nodes
   }
 }
 
-// A field of a file at one time step: NodeData or ElementData (Gmsh: a model-based view). A
-// file may hold several (one per field and step, or more, a step split in blocks).
+// A field of a file at one time step: NodeData, ElementData or ElementNodeData (Gmsh: a
+// model-based view). A file may hold several (one per field and step, or more, a step split in
+// blocks).
 struct ViewData {
-  std::string name, type;  // type: "NodeData" or "ElementData"
+  std::string name, type;  // type: "NodeData", "ElementData" or "ElementNodeData"
   int components = 0;
   std::int64_t step = 0;
   std::vector<std::size_t> tags;
-  std::vector<double> values;  // `components` per tag
+  std::vector<double> values;  // `components` per tag; ElementNodeData: nodes[i] * components for tag i
+  std::vector<std::uint32_t> nodes;  // ElementNodeData: each tag's number of nodes (empty otherwise)
 };
 
 using tetia::kOnlyStep;  // field_values' default step (tetia/io.hpp)
@@ -228,38 +235,47 @@ std::string no_cells_message(const Extracted<Mesh>& ex) {
   return m;
 }
 
-// What a read returns, from either reader: the mesh finalized (finalize(mesh, FILE)) and, with
-// `info`, what was ignored or made straight and the fields with values, each name once in file
-// order.
+// The extracted mesh finalized (finalize(mesh, FILE)), or "no cells" with what was ignored.
 template <class Mesh>
-Mesh finish_read(Extracted<Mesh>&& ex, const std::string& name, const std::vector<ViewData>& views, MeshReadInfo* info) {
+void finalize_extracted(Extracted<Mesh>& ex, const std::string& name) {
   if (ex.mesh.cells.empty()) io_fail(name, no_cells_message(ex));
   finalize(ex.mesh, name);
+}
+
+// What a read returns, from either reader: the mesh finalized (finalize_extracted, unless the
+// caller did it already: `finalized`, to read element-node data on the final cells first) and,
+// with `info`, what was ignored or made straight and the fields with values, each name once
+// per kind in file order.
+template <class Mesh>
+Mesh finish_read(Extracted<Mesh>&& ex, const std::string& name, const std::vector<ViewData>& views, MeshReadInfo* info,
+                 bool finalized = false) {
+  if (!finalized) finalize_extracted(ex, name);
   if (info != nullptr) {
     *info = MeshReadInfo{};
     info->ignored_elements = ex.ignored;
     info->straightened_cells = ex.straightened;
-    std::unordered_set<std::string> seen[2];
+    std::unordered_set<std::string> seen[3];
+    std::vector<std::string>* lists[3] = {&info->node_fields, &info->cell_fields, &info->cell_node_fields};
     for (const auto& v : views) {
-      const bool on_nodes = v.type == "NodeData";
-      if (!v.tags.empty() && seen[on_nodes ? 0 : 1].insert(v.name).second)
-        (on_nodes ? info->node_fields : info->cell_fields).push_back(v.name);
+      const int kind = v.type == "NodeData" ? 0 : v.type == "ElementData" ? 1 : v.type == "ElementNodeData" ? 2 : -1;
+      if (kind >= 0 && !v.tags.empty() && seen[kind].insert(v.name).second) lists[kind]->push_back(v.name);
     }
   }
   return std::move(ex.mesh);
 }
 
-// The named NodeData / ElementData at time step `step` (kOnlyStep: its only step with values),
-// in the reader's order of nodes / cells (matched by tag, so any tag numbering works), each
-// entity's `components` values in a row. `components` receives their number; without it only
-// scalar fields are accepted. Every node / cell must have a value; values on elements other
-// than the kept cells are ignored; a tag given twice at the step is an error.
-template <class Mesh>
-std::vector<double> field_values(const std::string& name, const Extracted<Mesh>& ex,
-                                 const std::vector<ViewData>& views, const std::string& field_name, bool on_cells,
-                                 std::int64_t step = kOnlyStep, int* components = nullptr) {
-  const char* kind = on_cells ? "cell" : "node";
-  const std::string type = on_cells ? "ElementData" : "NodeData";
+// The time step of the named field of one kind (`type`: "NodeData", "ElementData",
+// "ElementNodeData"; `kind` names it in messages: "node", "cell", "cell-node") that a read
+// takes, and its number of components: `step`, or with kOnlyStep the field's only step with
+// values. Errors: no such field with values (naming the fields of that kind there are), several
+// steps and none chosen, no such step, blocks of the step with different numbers of
+// components, and more than one component where only scalar fields are read (`scalar_only`).
+struct FieldStep {
+  std::int64_t step = 0;
+  int components = 0;
+};
+inline FieldStep field_step(const std::string& name, const std::vector<ViewData>& views, const std::string& type,
+                            const char* kind, const std::string& field_name, std::int64_t step, bool scalar_only) {
   std::vector<std::int64_t> steps;
   bool found = false;
   for (const auto& v : views) {
@@ -296,8 +312,23 @@ std::vector<double> field_values(const std::string& name, const Extracted<Mesh>&
                           " with different numbers of components");
       comps = v.components;
     }
-  if (components == nullptr && comps != 1)
+  if (scalar_only && comps != 1)
     io_fail(name, "field " + field_name + " has " + std::to_string(comps) + " components; only scalar fields are read here");
+  return {chosen, comps};
+}
+
+// The named NodeData / ElementData at time step `step` (kOnlyStep: its only step with values),
+// in the reader's order of nodes / cells (matched by tag, so any tag numbering works), each
+// entity's `components` values in a row. `components` receives their number; without it only
+// scalar fields are accepted. Every node / cell must have a value; values on elements other
+// than the kept cells are ignored; a tag given twice at the step is an error.
+template <class Mesh>
+std::vector<double> field_values(const std::string& name, const Extracted<Mesh>& ex,
+                                 const std::vector<ViewData>& views, const std::string& field_name, bool on_cells,
+                                 std::int64_t step = kOnlyStep, int* components = nullptr) {
+  const char* kind = on_cells ? "cell" : "node";
+  const std::string type = on_cells ? "ElementData" : "NodeData";
+  const auto [chosen, comps] = field_step(name, views, type, kind, field_name, step, components == nullptr);
   const auto nc = static_cast<std::size_t>(comps);
   const TagIndex& index = on_cells ? ex.cell_index : ex.node_index;
   // Split file cells (mesh.cell_origin): the values are the file cells', given to their simplices.
@@ -332,6 +363,83 @@ std::vector<double> field_values(const std::string& name, const Extracted<Mesh>&
   }
   for (std::size_t k = 0; k < n; ++k)
     if (!set[k]) io_fail(name, "field " + field_name + " has no value for " + kind + " " + std::to_string(k));
+  if (components != nullptr) *components = comps;
+  return values;
+}
+
+// The named ElementNodeData at time step `step` (kOnlyStep: its only step with values) on the
+// simplices of the finalized mesh `ex.mesh` (finalize_extracted): per simplex c, per vertex k
+// (mesh.cells[c][k]), the `components` values at index (c * (d + 1) + k) * components + j:
+// the value its element (its file cell, for split cells) has at that node. The node is looked
+// up in the element's node list, so splitting and reorientation (which only permute a
+// simplex's vertices, or take them from the file cell) change nothing; a collapsed file cell
+// (a node twice) gives a node its first position's value; cells of order > 1 read by their
+// corners take their corners' values. `file_cells`: where the mesh has no split cells, its
+// cells as extracted, before finalize (the nodes in the file's order); ignored otherwise
+// (mesh.origin_nodes has them). `components` receives their number; without it only scalar
+// fields are accepted. Errors name the field and the element tag: an element whose entry has
+// another number of nodes than its type (in the file: more than its corners for order > 1), a
+// kept cell without a value, an element tag given twice at the step; entries on elements other
+// than the kept cells are ignored (as field_values does).
+template <class Mesh>
+std::vector<double> cell_node_values(const std::string& name, const Extracted<Mesh>& ex,
+                                     const std::vector<std::array<std::int32_t, MeshDim<Mesh>::nv>>& file_cells,
+                                     const std::vector<ViewData>& views, const std::string& field_name,
+                                     std::int64_t step = kOnlyStep, int* components = nullptr) {
+  constexpr std::size_t nv = MeshDim<Mesh>::nv;
+  const std::string type = "ElementNodeData";
+  const auto [chosen, comps] = field_step(name, views, type, "cell-node", field_name, step, components == nullptr);
+  const auto nc = static_cast<std::size_t>(comps);
+  const Mesh& mesh = ex.mesh;
+  const bool split = !mesh.cell_origin.empty();
+  if (!split && file_cells.size() != mesh.cells.size())
+    throw std::logic_error("cell_node_values: file_cells must be the cells before finalize");
+  // Per file cell (cell_index's order): its first node in origin_nodes (split cells only), its
+  // corners, and the first of its values in the chosen view (null: none yet).
+  const std::size_t files = split ? mesh.origin_tags.size() : mesh.cells.size();
+  std::vector<std::size_t> first_node;
+  if (split) {
+    first_node.resize(files + 1, 0);
+    for (std::size_t f = 0; f < files; ++f)
+      first_node[f + 1] = first_node[f] + static_cast<std::size_t>(file_cell_nodes(mesh.origin_types[f]));
+  }
+  const auto corners = [&](std::size_t f) {
+    return split ? static_cast<std::size_t>(file_cell_nodes(mesh.origin_types[f])) : nv;
+  };
+  const auto tag_of = [&](std::size_t f) {
+    return split ? mesh.origin_tags[f] : mesh.cell_tags.empty() ? static_cast<std::int64_t>(f + 1) : mesh.cell_tags[f];
+  };
+  std::vector<const double*> first_value(files, nullptr);
+  for (const auto& v : views) {
+    if (v.type != type || v.name != field_name || v.step != chosen) continue;
+    if (v.nodes.size() != v.tags.size()) throw std::logic_error("cell_node_values: views read without their values");
+    std::size_t at = 0;  // v's values of entry i start at at (each entry: v.nodes[i] * nc values)
+    for (std::size_t i = 0; i < v.tags.size(); at += static_cast<std::size_t>(v.nodes[i]) * nc, ++i) {
+      const std::int32_t k = ex.cell_index.find(v.tags[i]);
+      if (k < 0) continue;  // data on elements other than the cells
+      const auto f = static_cast<std::size_t>(k);
+      const std::size_t want = ex.element_nodes.empty() ? corners(f) : ex.element_nodes[f];
+      if (v.nodes[i] != want)
+        io_fail(name, "field " + field_name + ": element " + std::to_string(v.tags[i]) + " has " +
+                          std::to_string(want) + " nodes, its data gives " + std::to_string(v.nodes[i]));
+      if (first_value[f] != nullptr)
+        io_fail(name, "field " + field_name + ": element tag " + std::to_string(v.tags[i]) + " has two values");
+      first_value[f] = &v.values[at];
+    }
+  }
+  std::vector<double> values(mesh.cells.size() * nv * nc);
+  for (std::size_t c = 0; c < mesh.cells.size(); ++c) {
+    const std::size_t f = split ? static_cast<std::size_t>(mesh.cell_origin[c]) : c;
+    const double* given = first_value[f];
+    if (given == nullptr) io_fail(name, "field " + field_name + " has no value for element " + std::to_string(tag_of(f)));
+    const std::int32_t* nodes = split ? &mesh.origin_nodes[first_node[f]] : file_cells[c].data();
+    const std::size_t n = corners(f);
+    for (std::size_t k = 0; k < nv; ++k) {
+      const std::size_t p = static_cast<std::size_t>(std::find(nodes, nodes + n, mesh.cells[c][k]) - nodes);
+      if (p == n) throw std::logic_error("cell_node_values: a simplex vertex that is no node of its file cell");
+      std::copy_n(given + p * nc, nc, &values[(c * nv + k) * nc]);
+    }
+  }
   if (components != nullptr) *components = comps;
   return values;
 }

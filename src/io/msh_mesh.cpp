@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "../mesh/split_cells.hpp"
@@ -17,24 +18,27 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
   using Dm = MeshDim<Mesh>;
   constexpr std::size_t nv = Dm::nv;
   // Each kept type, and with corner_nodes its higher orders by their corners (first order first).
+  // A merged list has the type of each element (MshCells::types), the first-order ones' too.
   std::array<MshCells, 5> merged;
-  const auto with_higher = [&](const MshCells& first, const MshCells& higher, int slot) -> const MshCells& {
+  const auto with_higher = [&](const MshCells& first, const MshCells& higher, int slot, int type) -> const MshCells& {
     if (!corner_nodes || higher.tags.empty()) return first;
     MshCells& m = merged[static_cast<std::size_t>(slot)];
     m = first;
     m.tags.insert(m.tags.end(), higher.tags.begin(), higher.tags.end());
     m.nodes.insert(m.nodes.end(), higher.nodes.begin(), higher.nodes.end());
     m.where.insert(m.where.end(), higher.where.begin(), higher.where.end());
+    m.types.assign(first.tags.size(), static_cast<std::uint8_t>(type));
+    m.types.insert(m.types.end(), higher.types.begin(), higher.types.end());
     return m;
   };
-  const MshCells& kept = Dm::d == 3 ? with_higher(file.tetrahedra, file.higher_tetrahedra, 0)
-                                    : with_higher(file.triangles, file.higher_triangles, 0);
+  const MshCells& kept = Dm::d == 3 ? with_higher(file.tetrahedra, file.higher_tetrahedra, 0, 4)
+                                    : with_higher(file.triangles, file.higher_triangles, 0, 2);
   // (Only this dimension's: a 3D file's boundary quadrilaterals are not copied.)
   const bool volume = Dm::d == 3;
-  const MshCells& hexahedra = volume ? with_higher(file.hexahedra, file.higher_hexahedra, 1) : file.hexahedra;
-  const MshCells& prisms = volume ? with_higher(file.prisms, file.higher_prisms, 2) : file.prisms;
-  const MshCells& pyramids = volume ? with_higher(file.pyramids, file.higher_pyramids, 3) : file.pyramids;
-  const MshCells& quadrangles = volume ? file.quadrangles : with_higher(file.quadrangles, file.higher_quadrangles, 4);
+  const MshCells& hexahedra = volume ? with_higher(file.hexahedra, file.higher_hexahedra, 1, 5) : file.hexahedra;
+  const MshCells& prisms = volume ? with_higher(file.prisms, file.higher_prisms, 2, 6) : file.prisms;
+  const MshCells& pyramids = volume ? with_higher(file.pyramids, file.higher_pyramids, 3, 7) : file.pyramids;
+  const MshCells& quadrangles = volume ? file.quadrangles : with_higher(file.quadrangles, file.higher_quadrangles, 4, 3);
   const MshCells& other = Dm::d == 3 ? file.triangles : file.tetrahedra;
   Extracted<Mesh> ex;
   const auto lines = [&](const std::vector<std::size_t>& where) {
@@ -66,6 +70,7 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
     std::vector<std::uint64_t> tags;
     std::vector<const std::uint64_t*> nodes;
     std::vector<std::uint8_t> types;
+    std::vector<std::uint8_t> file_nodes;  // the number of nodes in the file (more than the corners: order > 1)
     std::vector<std::size_t> where;
   } fc;
   const auto add_cells = [&](const MshCells& c, int type, std::size_t n) {
@@ -73,6 +78,8 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
       fc.tags.push_back(c.tags[i]);
       fc.nodes.push_back(&c.nodes[n * i]);
       fc.types.push_back(static_cast<std::uint8_t>(type));
+      fc.file_nodes.push_back(
+          static_cast<std::uint8_t>(c.types.empty() ? n : static_cast<std::size_t>(msh_nodes_per_element(c.types[i]))));
       fc.where.push_back(c.where[i]);
     }
   };
@@ -82,6 +89,7 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
   fc.tags.reserve(total);
   fc.nodes.reserve(total);
   fc.types.reserve(total);
+  fc.file_nodes.reserve(total);
   fc.where.reserve(total);
   add_cells(kept, Dm::d == 3 ? 4 : 2, nv);
   if constexpr (Dm::d == 3) {
@@ -177,10 +185,20 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
   std::vector<std::size_t> file_tags(order.size());
   std::vector<std::uint8_t> file_types(order.size());
   for (std::size_t k = 0; k < order.size(); ++k) file_tags[k] = fc.tags[order[k]], file_types[k] = fc.types[order[k]];
+  // Only where cells of order > 1 were kept by their corners do node counts differ from types'.
+  std::vector<std::uint8_t> file_counts;
+  if (ex.straightened > 0) {
+    file_counts.resize(order.size());
+    for (std::size_t k = 0; k < order.size(); ++k) file_counts[k] = fc.file_nodes[order[k]];
+  }
   if (!split) {
     ex.ignored += cells_before - cells.size();
     std::vector<std::size_t> cell_tags(cells.size());
     for (std::size_t c = 0; c < cells.size(); ++c) cell_tags[c] = file_tags[origin[c]];
+    if (!file_counts.empty()) {
+      ex.element_nodes.resize(cells.size());
+      for (std::size_t c = 0; c < cells.size(); ++c) ex.element_nodes[c] = file_counts[origin[c]];
+    }
     ex.cell_index.build(cell_tags, order, name, "element", [](std::size_t, std::size_t) { return false; });
     ex.mesh.cell_tags.assign(cell_tags.begin(), cell_tags.end());
   } else {
@@ -199,6 +217,7 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
         renumber[k] = static_cast<std::int64_t>(kept_cells);
         file_tags[kept_cells] = file_tags[k];
         file_types[kept_cells] = file_types[k];
+        if (!file_counts.empty()) file_counts[kept_cells] = file_counts[k];
         ++kept_cells;
         kept_nodes.insert(kept_nodes.end(), file_nodes.begin() + static_cast<std::ptrdiff_t>(at),
                           file_nodes.begin() + static_cast<std::ptrdiff_t>(at + n));
@@ -207,6 +226,10 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
     }
     file_tags.resize(kept_cells);
     file_types.resize(kept_cells);
+    if (!file_counts.empty()) {
+      file_counts.resize(kept_cells);
+      ex.element_nodes = std::move(file_counts);
+    }
     for (std::size_t& k : origin) k = static_cast<std::size_t>(renumber[k]);
     ex.cell_index.build(file_tags, order, name, "element", [](std::size_t, std::size_t) { return false; });
     ex.mesh.cell_origin.assign(origin.begin(), origin.end());
@@ -235,10 +258,12 @@ int msh_dimension(const MshFile& file) {
 std::vector<ViewData> msh_views(const MshFile& file, bool with_values) {
   std::vector<ViewData> out;
   for (const MshData& d : file.data) {
-    ViewData v{d.name, d.on_elements ? "ElementData" : "NodeData", d.components, d.step, {}, {}};
+    ViewData v{d.name, d.on_element_nodes ? "ElementNodeData" : d.on_elements ? "ElementData" : "NodeData",
+               d.components, d.step, {}, {}, {}};
     if (with_values) {
       v.tags.assign(d.tags.begin(), d.tags.end());
       v.values = d.values;
+      v.nodes = d.nodes;
     } else if (!d.tags.empty()) {
       v.tags.push_back(d.tags.front());  // marks the block as having values
     }

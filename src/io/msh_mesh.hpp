@@ -27,9 +27,9 @@ Extracted<Mesh> extract_msh(const MshFile& file, const std::string& name, bool c
 /// 3 if the file has tetrahedra (of any order), else 2 if it has triangles (of any order), else 0.
 int msh_dimension(const MshFile& file);
 
-/// The file's data blocks ($NodeData, $ElementData), one ViewData each, in file order;
-/// `with_values` = false keeps names, kinds, steps, components and one tag of a block with
-/// values (so that field_values can tell empty steps).
+/// The file's data blocks ($NodeData, $ElementData, $ElementNodeData), one ViewData each, in
+/// file order; `with_values` = false keeps names, kinds, steps, components and one tag of a
+/// block with values (so that field_values can tell empty steps).
 std::vector<ViewData> msh_views(const MshFile& file, bool with_values);
 
 }  // namespace tetia::detail

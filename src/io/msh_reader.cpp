@@ -5,7 +5,9 @@
 // the integer 1 to give the byte order); $Nodes and $Elements, whose layouts differ between 2.x
 // (one list) and 4.1 (blocks per entity; binary counts and tags as size_t); $NodeData and
 // $ElementData, alike in both (text headers of string, real and integer tags, then "tag
-// values..." per entry, binary: a 4-byte tag and the doubles). Every other section is skipped
+// values..." per entry, binary: a 4-byte tag and the doubles); $ElementNodeData the same with
+// each entry's number of nodes after its tag (binary: a 4-byte int) and that many nodes' values
+// (Gmsh writes an entry to a line, as this reader requires). Every other section is skipped
 // up to its end marker ($Entities of a binary 4.1 file is parsed, being binary).
 //
 // Every number goes through one checked conversion (std::from_chars); every count is compared
@@ -124,8 +126,9 @@ class Parser {
         elements = true;
         out_.major == 2 ? elements2() : elements4();
         end_of("Elements");
-      } else if (section == "NodeData" || section == "ElementData") {
-        data(section == "ElementData");
+      } else if (section == "NodeData" || section == "ElementData" || section == "ElementNodeData") {
+        data(section == "NodeData" ? DataKind::nodes : section == "ElementData" ? DataKind::elements
+                                                                                 : DataKind::element_nodes);
         end_of(std::string(section));
       } else if (section == "Entities" && out_.binary && out_.major == 4) {
         entities4();
@@ -508,6 +511,7 @@ class Parser {
       cells->tags.push_back(tag);
       cells->nodes.insert(cells->nodes.end(), nodes, nodes + msh_nodes_per_element(corners));  // the corners come first
       cells->where.push_back(at);
+      cells->types.push_back(static_cast<std::uint8_t>(type));  // corner_type_of knows types <= 93 only
       return;
     }
     cells->tags.push_back(tag);
@@ -664,13 +668,28 @@ class Parser {
     }
   }
 
-  // $NodeData / $ElementData: string tags (the first is the name), real tags (the first is the
-  // time), integer tags (step, components, count, [partition]), then count entries.
-  void data(bool on_elements) {
+  enum class DataKind { nodes, elements, element_nodes };
+
+  // The next token of `line` from `i` on (empty at its end): for the lines of $ElementNodeData,
+  // whose length the file chooses (an element's nodes times the components), not bounded as
+  // Tokens is.
+  static std::string_view next_token(std::string_view line, std::size_t& i) {
+    while (i < line.size() && is_space(line[i])) ++i;
+    const std::size_t from = i;
+    while (i < line.size() && !is_space(line[i])) ++i;
+    return line.substr(from, i - from);
+  }
+
+  // $NodeData / $ElementData / $ElementNodeData: string tags (the first is the name), real tags
+  // (the first is the time), integer tags (step, components, count, [partition]), then count
+  // entries, "tag values..." ($ElementNodeData: "tag nodes values...", the values node after
+  // node, each node's components in a row; binary: a 4-byte tag, a 4-byte node count, the
+  // doubles).
+  void data(DataKind kind) {
     Tokens tk;
     MshData d;
-    d.on_elements = on_elements;
-    const std::size_t at = line_at_;
+    d.on_elements = kind == DataKind::elements;
+    d.on_element_nodes = kind == DataKind::element_nodes;
     line_of(tk, 1, "the number of string tags");
     const int nstrings = to_int<int>(tk.t[0], "the number of string tags");
     if (nstrings < 0 || nstrings > 100) fail(line_at_, "the number of string tags is out of range");
@@ -703,14 +722,20 @@ class Parser {
     if (ints[2] < 0) fail(line_at_, field + ": a negative number of values");
     const auto n = static_cast<std::uint64_t>(ints[2]);
     const std::size_t nc = static_cast<std::size_t>(d.components);
-    check_count(n, out_.binary ? 4 + 8 * nc : 2 * (1 + nc), line_at_, "data entries");
+    const bool per_node = kind == DataKind::element_nodes;
+    // The least an entry takes: its tag (and node count) and one node's values.
+    const std::size_t ints_per_entry = per_node ? 2 : 1;
+    check_count(n, out_.binary ? 4 * ints_per_entry + 8 * nc : 2 * (ints_per_entry + nc), line_at_, "data entries");
     d.tags.reserve(n);
     d.where.reserve(n);
     d.values.reserve(n * nc);
-    const char* kind = on_elements ? "element" : "node";
-    const std::string field_kind = field + ": " + kind, value_at = field + ": the value at " + kind;
+    if (per_node) d.nodes.reserve(n);
+    const char* entity = kind == DataKind::nodes ? "node" : "element";
+    const std::string field_kind = field + ": " + entity, value_at = field + ": the value at " + entity;
     for (std::uint64_t i = 0; i < n; ++i) {
-      if (out_.binary) {
+      if (per_node) {
+        element_node_entry(d, field_kind, value_at);
+      } else if (out_.binary) {
         d.where.push_back(pos_);
         const std::uint64_t tag = raw_tag(false, field_kind);
         d.tags.push_back(tag);
@@ -725,8 +750,52 @@ class Parser {
           d.values.push_back(to_double(tk.t[1 + k], What(value_at, tag, "")));
       }
     }
-    (void)at;
     out_.data.push_back(std::move(d));
+  }
+
+  // One entry of $ElementNodeData into `d`: the tag, the number of nodes (at least 1; whether
+  // it is the element's is checked where the mesh is assembled, which knows the elements) and
+  // that many nodes' values, no more and no fewer (ASCII: on one line).
+  void element_node_entry(MshData& d, const std::string& field_kind, const std::string& value_at) {
+    const auto nc = static_cast<std::uint64_t>(d.components);
+    const auto bad_count = [&](std::size_t at, std::uint64_t tag, std::int64_t count) {
+      fail(at, field_kind + " " + std::to_string(tag) + ": " + std::to_string(count) +
+                   " nodes (an element has at least 1)");
+    };
+    if (out_.binary) {
+      const std::size_t at = pos_;
+      d.where.push_back(at);
+      const std::uint64_t tag = raw_tag(false, field_kind);
+      const std::int32_t count = raw_int("an element's number of nodes");
+      if (count < 1) bad_count(at, tag, count);
+      const std::uint64_t want = static_cast<std::uint64_t>(count) * nc;  // < 2^35
+      check_count(want, 8, at, "values of an element");
+      d.tags.push_back(tag);
+      d.nodes.push_back(static_cast<std::uint32_t>(count));
+      const What what(value_at, tag, "");
+      for (std::uint64_t k = 0; k < want; ++k) d.values.push_back(raw_double(what));
+      return;
+    }
+    const std::string_view line = next_line("a data line (tag, number of nodes and values)");
+    d.where.push_back(line_at_);
+    std::size_t i = 0;
+    const std::string_view tag_text = next_token(line, i), count_text = next_token(line, i);
+    if (count_text.empty()) fail(line_at_, "a data line needs the tag, the number of nodes and the values");
+    const std::uint64_t tag = to_tag(tag_text, field_kind);
+    const auto count = to_int<std::int32_t>(count_text, What(field_kind, tag, ": number of nodes"));
+    if (count < 1) bad_count(line_at_, tag, count);
+    const std::uint64_t want = static_cast<std::uint64_t>(count) * nc;
+    std::uint64_t got = 0;
+    const What what(value_at, tag, "");
+    // At most `want` values are kept; the rest of the line is only counted, for the message.
+    for (std::string_view t = next_token(line, i); !t.empty(); t = next_token(line, i), ++got)
+      if (got < want) d.values.push_back(to_double(t, what));
+    if (got != want)
+      fail(line_at_, field_kind + " " + std::to_string(tag) + ": " + std::to_string(count) + " nodes of " +
+                         std::to_string(nc) + (nc == 1 ? " component" : " components") + " need " +
+                         std::to_string(want) + " values, the line gives " + std::to_string(got));
+    d.tags.push_back(tag);
+    d.nodes.push_back(static_cast<std::uint32_t>(count));
   }
 
   std::string_view b_;

@@ -10,17 +10,18 @@
 //
 // Contract of parse_msh(bytes, name):
 //  - returns the nodes (tags, coordinates), the first-order tetrahedra and triangles (tags,
-//    node tags), counts of every other element type, and the $NodeData / $ElementData blocks,
-//    all in file order and with the byte offset each came from; or throws std::runtime_error
-//    "tetia: NAME: line L: ..." (ASCII files) or "tetia: NAME: byte offset B: ..." (binary
-//    files), naming the node, element or field where there is one;
+//    node tags), counts of every other element type, and the $NodeData / $ElementData /
+//    $ElementNodeData blocks, all in file order and with the byte offset each came from; or
+//    throws std::runtime_error "tetia: NAME: line L: ..." (ASCII files) or "tetia: NAME: byte
+//    offset B: ..." (binary files), naming the node, element or field where there is one;
 //  - errors: a missing or malformed header or section, a truncated file, a count that
 //    disagrees with the data that follows, a number that does not parse or is out of range,
-//    a non-finite coordinate or field value, a tag that is 0 or negative, an element type
-//    whose size is unknown in a binary file, a big-endian binary file, a data size other than
-//    8. (A file may hold several meshes one after another, as Gmsh writes them when it appends
-//    views: in a 2.x file the last copy is the mesh, as in Gmsh's 2.2 reader; in a 4.1 file
-//    all are read, as Gmsh merges them.) (Duplicate tags and unknown node references are
+//    a non-finite coordinate or field value, a tag that is 0 or negative, an $ElementNodeData
+//    entry of no nodes or whose values are not its nodes times the components, an element
+//    type whose size is unknown in a binary file, a big-endian binary file, a data size other
+//    than 8. (A file may hold several meshes one after another, as Gmsh writes them when it
+//    appends views: in a 2.x file the last copy is the mesh, as in Gmsh's 2.2 reader; in a 4.1
+//    file all are read, as Gmsh merges them.) (Duplicate tags and unknown node references are
 //    found where the mesh is assembled, msh_mesh.hpp, which knows what is kept.)
 //  - time linear in the size of the file, and memory at most a small multiple of it: a count
 //    read from the file is checked against the bytes left before anything is reserved for it.
@@ -44,16 +45,25 @@ struct MshCells {
   std::vector<std::uint64_t> tags;
   std::vector<std::uint64_t> nodes;  ///< node tags, the type's node count per element
   std::vector<std::size_t> where;    ///< byte offset of each element in the file
+  /// The higher_* lists only: each element's own Gmsh type (of order > 1), whose node count
+  /// (msh_nodes_per_element) an $ElementNodeData entry must give; empty for first-order lists.
+  std::vector<std::uint8_t> types;
 };
 
-/// One $NodeData or $ElementData block (one time step of one field).
+/// One $NodeData, $ElementData or $ElementNodeData block (one time step of one field).
 struct MshData {
   std::string name;
-  bool on_elements = false;  ///< $ElementData (else $NodeData)
-  std::int64_t step = 0;     ///< the time step (the first integer tag)
+  bool on_elements = false;       ///< $ElementData
+  bool on_element_nodes = false;  ///< $ElementNodeData (neither: $NodeData)
+  std::int64_t step = 0;          ///< the time step (the first integer tag)
   int components = 1;
   std::vector<std::uint64_t> tags;
-  std::vector<double> values;  ///< `components` per tag
+  /// `components` per tag; $ElementNodeData: nodes[i] * components for tag i, node after node
+  /// (the element's nodes in its own order), each node's components in a row.
+  std::vector<double> values;
+  /// $ElementNodeData: each entry's number of nodes, as the file gives it (checked against the
+  /// element's type where the mesh is assembled); empty for the other kinds.
+  std::vector<std::uint32_t> nodes;
   std::vector<std::size_t> where;
 };
 
