@@ -139,8 +139,32 @@ int run(int argc, char** argv) {
   rm_cmd->add_option("--step", rm.step, "The time step of the fields (required when a field has several)");
   rm_cmd->add_option("--expr", rm.expr,
                      "An analytic field in x, y, z (z = 0 in 2D), e.g. \"sin(x)*y\" (muparser syntax)");
-  rm_cmd->add_option("--order", rm.order, "0: cell averages (P0); 1: continuous nodal (P1)")
+  rm_cmd->add_option("--order", rm.order, "0: cell averages (P0); 1: nodal (P1: continuous, or discontinuous)")
       ->check(CLI::IsMember({0, 1}))
+      ->capture_default_str();
+  rm_cmd->add_flag("--bounded", rm.bounded,
+                   "P1 within the local bounds of the source (the least and largest source value on the source cells "
+                   "that overlap each node's support): the Galerkin solution corrected by clip-and-assured-sum");
+  rm_cmd->add_flag("--lumped", rm.lumped, "P1 by the lumped-mass projection (first order, bounded, conservative)");
+  rm_cmd->add_flag("--discontinuous", rm.discontinuous,
+                   "With --order 1: the L2 projection onto discontinuous P1 on the target (values per cell and "
+                   "vertex); with --order 0: cell averages of a discontinuous P1 source (a --field of element-node "
+                   "data)");
+  rm_cmd->add_option("--reconstruct", rm.reconstruct,
+                     "With --order 0: linear: second-order cell averages by a limited (Barth-Jespersen) least-squares "
+                     "gradient per source cell, integrated exactly on each piece")
+      ->check(CLI::IsMember({"none", "linear"}))
+      ->capture_default_str();
+  rm_cmd->add_option("--normalize", rm.normalize,
+                     "Averages over partly covered target cells (--order 0, --lumped): full (by the cell's measure: "
+                     "the source counts as 0 outside its domain; conservative) or covered (by the covered measure)")
+      ->check(CLI::IsMember({"full", "covered"}))
+      ->capture_default_str();
+  rm_cmd->add_option("--uncovered", rm.uncovered,
+                     "Values of target cells (nodes for P1) that the source does not cover at all: flag (the method's "
+                     "value, 0 for averages, counted on stderr and in the JSON), nan, zero, or keep (the target "
+                     "file's own values of the field)")
+      ->check(CLI::IsMember({"flag", "nan", "zero", "keep"}))
       ->capture_default_str();
   rm_cmd->add_option("-o,--output", rm.output,
                      "Write the target mesh with the remapped fields: VTU (node_id and cell_id: the file's "
@@ -152,6 +176,10 @@ int run(int argc, char** argv) {
                    "Read second- and higher-order cells by their corner nodes: straight cells (the JSON then "
                    "has straightened_cells: [source, target])");
   rm_cmd->add_option("--matrix", rm.matrix, "Write the coupling (mixed mass) matrix in Matrix Market format");
+  rm_cmd->add_option("--save-operator", rm.save_operator,
+                     "Write the remap operator W (the result is W times the field) for 'tetia apply': Matrix Market "
+                     "if the name ends in .mtx, an ESMF weight file (netCDF) if in .nc; for the linear methods: "
+                     "--order 0 (also --discontinuous), --lumped, --discontinuous");
   rm_cmd->add_option("--threads", rm.threads, "OpenMP threads (0: default)")
       ->check(CLI::Range(0, 4096))
       ->capture_default_str();
@@ -170,8 +198,47 @@ int run(int argc, char** argv) {
                  "overlap), target_integral, conservation_error (target against overlap integral,\n"
                  "relative), l2_error and relative_l2_error (with --expr; else null), cg_iterations\n"
                  "(P1; the most over the components), all of the first field's first component;\n"
+                 "method (p0, p0_linear, p0_from_discontinuous, p1, p1_lumped, p1_bounded,\n"
+                 "p1_discontinuous), normalize; coverage: of (cells or nodes: what carries the values),\n"
+                 "uncovered and partly_covered (how many), least_fraction, uncovered_values;\n"
                  "fields: per field name, components, and per component source_integral,\n"
-                 "overlap_integral, target_integral, conservation_error; seconds (the supermesh).");
+                 "overlap_integral, target_integral, conservation_error; seconds (the supermesh).\n"
+                 "Integrals and errors are of the remap's values, before --uncovered replaces any.\n"
+                 "Output: cell data covered_fraction (per file cell: the fraction of its measure the\n"
+                 "source covers) and, for continuous P1, point data node_covered_fraction (of each\n"
+                 "basis function's integral). A discontinuous P1 result is element-node data in .msh\n"
+                 "and, in VTU, cell data with (d + 1) x components values per cell, vertex-major (the\n"
+                 "value at the cell's vertex k, component j, at k * components + j); on a target with\n"
+                 "hexahedra, prisms, pyramids or quadrilaterals it is per simplex (VTU only).");
+
+  tetia::app::ApplyCommand ap;
+  CLI::App* ap_cmd = app.add_subcommand(
+      "apply", "Apply a saved remap operator (tetia remap --save-operator) to fields, without the supermesh");
+  ap_cmd->add_option("operator", ap.op, "The operator file (.mtx or .nc)")->required();
+  ap_cmd->add_option("source", ap.source, "The source mesh with the fields (.msh)")->required();
+  ap_cmd->add_option("target", ap.target, "The target mesh (.msh)")->required();
+  ap_cmd->add_option("--field", ap.fields, "A field stored in the source .msh (repeat for several)")->required();
+  ap_cmd->add_option("--step", ap.step, "The time step of the fields (required when a field has several)");
+  ap_cmd->add_option("-o,--output", ap.output, "Write the target with the fields: VTU, or .msh if the name ends in .msh");
+  ap_cmd->add_option("--uncovered", ap.uncovered,
+                     "Values the operator has no entries for (nothing covers them): flag (0, counted on stderr), nan, "
+                     "zero, or keep (the target file's own values of the field)")
+      ->check(CLI::IsMember({"flag", "nan", "zero", "keep"}))
+      ->capture_default_str();
+  ap_cmd->add_flag("--ascii", ap.ascii, "Write the VTU as text (default: binary, zlib-compressed)");
+  ap_cmd->add_flag("--progress", ap.progress, "Show the progress line on stderr even when it is not a terminal");
+  ap_cmd->add_flag("--quiet", ap.quiet, "No progress line and no notes on stderr");
+  ap_cmd->add_flag("--corner-nodes", ap.corner_nodes, "Read higher-order cells by their corner nodes (as remap)");
+  ap_cmd->add_option("--threads", ap.threads, "OpenMP threads for the VTU's compression (0: default)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  ap_cmd->footer("The fields are read where the operator's columns are (cells, nodes or cell_nodes:\n"
+                 "element data, node data, element-node data) and written where its rows are; the\n"
+                 "meshes must be those it was saved for (the counts are checked). The result is bit for\n"
+                 "bit what 'tetia remap' computed when it saved the operator. Prints a JSON summary:\n"
+                 "dimension, method, normalize, rows, row_values, columns, column_values, entries,\n"
+                 "uncovered (rows without entries), uncovered_values, fields (name, components,\n"
+                 "target_integral per component, before --uncovered).");
 
   tetia::app::DemoCommand demo;
   CLI::App* demo_cmd = app.add_subcommand(
@@ -195,6 +262,7 @@ int run(int argc, char** argv) {
   if (app.got_subcommand("pairs")) return run_pairs_command(pairs);
   if (app.got_subcommand("supermesh")) return tetia::app::run_supermesh(sm);
   if (app.got_subcommand("remap")) return tetia::app::run_remap(rm);
+  if (app.got_subcommand("apply")) return tetia::app::run_apply(ap);
   if (app.got_subcommand("demo")) return tetia::app::run_demo(demo);
 
   std::fputs(app.help().c_str(), stderr);

@@ -29,11 +29,28 @@ struct RemapCommand {
   std::string expr;
   std::int64_t step = kOnlyStep;    // --step: the time step of the fields
   int order = 0;
+  // The method (app/remap_method.hpp): --bounded, --lumped, --discontinuous, --reconstruct.
+  bool bounded = false, lumped = false, discontinuous = false;
+  std::string reconstruct = "none";  // none or linear
+  std::string normalize = "full";    // full or covered
+  std::string uncovered = "flag";    // flag, nan, zero or keep
+  std::string save_operator;         // .mtx or .nc (app/operator_file.hpp)
   int threads = 0;
   bool ascii = false;  // the VTU as text instead of compressed binary
   bool progress = false, quiet = false;  // force the progress line on or off (app/progress.hpp)
   bool corner_nodes = false;             // read higher-order cells by their corners (straight)
   std::string partition = "morton";      // under mpiexec (app/mpi_mode.hpp)
+};
+
+// `tetia apply OPERATOR SOURCE TARGET`: a saved operator (app/operator_file.hpp) applied to
+// fields of the source file, without the supermesh.
+struct ApplyCommand {
+  std::string op, source, target, output;
+  std::vector<std::string> fields;
+  std::int64_t step = kOnlyStep;
+  std::string uncovered = "flag";
+  int threads = 0;
+  bool ascii = false, progress = false, quiet = false, corner_nodes = false;
 };
 
 struct DemoCommand {
@@ -45,6 +62,7 @@ struct DemoCommand {
 
 int run_supermesh(const SupermeshCommand& cmd);
 int run_remap(const RemapCommand& cmd);
+int run_apply(const ApplyCommand& cmd);
 int run_demo(const DemoCommand& cmd);
 
 }  // namespace tetia::app

@@ -25,6 +25,8 @@ packages=(
   libgmsh-dev       # generating meshes (Gmsh C++ API), and the reference reader of the tests
   zlib1g-dev        # compressed binary VTU output
   libmuparser-dev   # analytic fields in `tetia remap --expr`
+  libnetcdf-dev     # ESMF weight files (`tetia remap --save-operator W.nc`, `tetia apply`)
+  python3-netcdf4   # the tests read those files with another netCDF reader
   python3           # scripts and plots
   python3-matplotlib
   python3-numpy

@@ -10,6 +10,7 @@
 // the polyhedron: SupermeshOptions::keep_mixed_mass); the quadrature rule is written per
 // dimension here.
 #include "tetia/remap.hpp"
+#include "tetia/remap_methods.hpp"
 
 #include <algorithm>
 #include <array>
@@ -202,27 +203,41 @@ double err_p0(const Mesh& mesh, std::span<const double> values, const F& f) {
   return std::sqrt(sum);
 }
 
-template <class Mesh, class F>
-double err_p1(const Mesh& mesh, std::span<const double> values, const F& f) {
+// The L2 error of a piecewise linear field given by its values at each cell's vertices:
+// vertex_value(c, k) for vertex k of cell c (a continuous field's node values, or a
+// discontinuous one's own per cell).
+template <class Mesh, class VertexValue, class F>
+double err_linear(const Mesh& mesh, const VertexValue& vertex_value, const F& f) {
   using Dm = detail::Dim<Mesh>;
-  check_size(values.size(), mesh.num_nodes(), "l2_error_p1", "node");
   const auto& q = rule<Dm::d>();
   const auto& measures = Dm::measures(mesh);
   double sum = 0.0;
   for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
     const auto T = mesh.cell(c);
-    const auto& v = mesh.cells[c];
     double s = 0.0;
     for (std::size_t k = 0; k < q.weight.size(); ++k) {
       const auto& b = q.bary[k];
-      double uh = b[0] * values[idx(v[0])];
-      for (std::size_t j = 1; j < Dm::nv; ++j) uh += b[j] * values[idx(v[j])];
+      double uh = b[0] * vertex_value(c, 0);
+      for (std::size_t j = 1; j < Dm::nv; ++j) uh += b[j] * vertex_value(c, j);
       const double e = uh - f(at(T, b));
       s += q.weight[k] * e * e;
     }
     sum += s * measures[c];
   }
   return std::sqrt(sum);
+}
+
+template <class Mesh, class F>
+double err_p1(const Mesh& mesh, std::span<const double> values, const F& f) {
+  check_size(values.size(), mesh.num_nodes(), "l2_error_p1", "node");
+  return err_linear(mesh, [&](std::size_t c, std::size_t k) { return values[idx(mesh.cells[c][k])]; }, f);
+}
+
+template <class Mesh, class F>
+double err_discontinuous(const Mesh& mesh, std::span<const double> values, const F& f) {
+  constexpr std::size_t nv = detail::Dim<Mesh>::nv;
+  check_size(values.size(), mesh.num_cells() * nv, "l2_error_discontinuous", "cell-vertex");
+  return err_linear(mesh, [&](std::size_t c, std::size_t k) { return values[c * nv + k]; }, f);
 }
 
 }  // namespace
@@ -261,6 +276,10 @@ double l2_error_p1(const TetMesh& mesh, std::span<const double> values, const st
   return err_p1(mesh, values, f);
 }
 
+double l2_error_discontinuous(const TetMesh& mesh, std::span<const double> values, const std::function<double(Vec3)>& f) {
+  return err_discontinuous(mesh, values, f);
+}
+
 // 2D
 
 std::vector<double> covered_areas(const Supermesh2& s) { return covered<TriMesh>(s, "covered_areas"); }
@@ -293,6 +312,10 @@ double l2_error_p0(const TriMesh& mesh, std::span<const double> values, const st
 
 double l2_error_p1(const TriMesh& mesh, std::span<const double> values, const std::function<double(Vec2)>& f) {
   return err_p1(mesh, values, f);
+}
+
+double l2_error_discontinuous(const TriMesh& mesh, std::span<const double> values, const std::function<double(Vec2)>& f) {
+  return err_discontinuous(mesh, values, f);
 }
 
 }  // namespace tetia

@@ -17,6 +17,7 @@
 
 #include "support/cell_grids.hpp"
 #include "support/cli.hpp"
+#include "support/json_text.hpp"
 #include "support/vtu_check.hpp"
 #include "tetia/file_cells.hpp"
 #include "tetia/io.hpp"
@@ -27,21 +28,7 @@ namespace {
 namespace fs = std::filesystem;
 
 using tetia::testcli::Result;
-// The number after "key": in a one-line JSON object (null gives NaN).
-double json_number(const std::string& json, const std::string& key) {
-  const std::string tag = "\"" + key + "\": ";
-  const auto at = json.find(tag);
-  if (at == std::string::npos) {
-    ADD_FAILURE() << "no key " << key << " in " << json;
-    return std::nan("");
-  }
-  const char* p = json.c_str() + at + tag.size();
-  if (std::string_view(p, 4) == "null") return std::nan("");
-  char* end = nullptr;
-  const double v = std::strtod(p, &end);
-  EXPECT_NE(end, p) << "no number for " << key << " in " << json;
-  return v;
-}
+using tetia::testjson::json_number;
 
 // The JSON without its "seconds" (the one key that differs between runs).
 std::string without_seconds(const std::string& json) {

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "support/cli.hpp"
+#include "support/json_text.hpp"
 #include "tetia/io.hpp"
 #include "tetia/mesh.hpp"
 #include "tetia/remap.hpp"
@@ -343,21 +344,8 @@ TEST(RemapP1Unstructured2D, WholeRectangleToSplitRectangle) {
 
 // --- the CLI: the user's command ----------------------------------------------------------------
 
-// The number after "key": in a one-line JSON object (null gives NaN).
-double json_number(const std::string& json, const std::string& key) {
-  const std::string tag = "\"" + key + "\": ";
-  const auto at = json.find(tag);
-  if (at == std::string::npos) {
-    ADD_FAILURE() << "no key " << key << " in " << json;
-    return std::nan("");
-  }
-  const char* p = json.c_str() + at + tag.size();
-  if (std::string_view(p, 4) == "null") return std::nan("");
-  char* end = nullptr;
-  const double v = std::strtod(p, &end);
-  EXPECT_NE(end, p) << "no number for " << key << " in " << json;
-  return v;
-}
+using tetia::testjson::json_number;
+
 
 TEST(RemapP1Unstructured, CliReproducesConstantAndLinearBetweenGmshBoxes) {
   ASSERT_TRUE(fs::exists(TETIA_CLI_PATH)) << "CLI not built: " << TETIA_CLI_PATH;

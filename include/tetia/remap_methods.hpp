@@ -14,8 +14,9 @@
 // - remap_p1_lumped: u_i = (M_ts u_s)_i / m_i, m_i = sum_j (M_t)_ij the lumped target mass (the
 //   integral of basis function i). First order. Each u_i is an average of the source field over
 //   the support of basis function i weighted by that function (zero where the source does not
-//   cover it), so it lies within the local bounds below; sum_i m_i u_i = sum_i (M_ts u_s)_i, the
-//   source integral over the overlap, to rounding.
+//   cover it), so it lies within the local bounds below: exactly, the quotient being clamped to
+//   them (which moves it by its rounding only); sum_i m_i u_i = sum_i (M_ts u_s)_i, the source
+//   integral over the overlap, to rounding.
 // - p1_local_bounds: per target node i, the least and largest source nodal value on the source
 //   cells that overlap the support of basis function i (the target cells around node i); 0 is
 //   included where that support is not fully covered (the field is zero outside the source), and
@@ -60,6 +61,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -98,11 +100,65 @@ std::vector<double> remap_p0_linear(const Supermesh2& s, std::span<const double>
                                     P0Normalization normalization = P0Normalization::cell_volume,
                                     std::span<const std::int32_t> groups = {});
 
+/// The linear methods as sparse operators W (Eigen row-major CSR; rows: the result's values,
+/// columns: the field's), so that W u is the remap of u, and W can be kept, saved and applied
+/// without the supermesh. Each is its function above in exact arithmetic and to rounding in
+/// floating point (the products are summed in another order; the lumped operator's values are
+/// not clamped to the bounds, so they hold to rounding). Assembled in the pieces' (target,
+/// source) order: the same for any number of threads. Rows of target cells that have nothing
+/// to divide by (zero measure, or zero covered measure) are empty.
+/// - p0_operator: rows target cells, columns source cells: |S cap T| / d_T (remap_p0); needs only
+///   the pieces.
+/// - p0_from_discontinuous_operator: rows target cells, columns source cell-vertices (cell c's
+///   vertex k at c (d + 1) + k): each piece's integral of the source cell's barycentric
+///   coordinate k, / d_T (remap_p0_from_discontinuous).
+/// - p1_lumped_operator: rows target nodes, columns source nodes: (M_ts)_ij / m_i (remap_p1_lumped).
+/// - p1_discontinuous_operator: rows target cell-vertices, columns source nodes (or source
+///   cell-vertices: P1Source::discontinuous): the cell's inverse mass matrix times its rows of
+///   the mixed mass matrix (remap_p1_discontinuous).
+/// The Galerkin and bounded P1 and the limited reconstruction have none: M_t^-1 M_ts is dense,
+/// and the limiters depend on the field.
+SparseMatrix p0_operator(const Supermesh& s, P0Normalization normalization = P0Normalization::cell_volume);
+SparseMatrix p0_operator(const Supermesh2& s, P0Normalization normalization = P0Normalization::cell_volume);
+SparseMatrix p0_from_discontinuous_operator(const Supermesh& s,
+                                            P0Normalization normalization = P0Normalization::cell_volume);
+SparseMatrix p0_from_discontinuous_operator(const Supermesh2& s,
+                                            P0Normalization normalization = P0Normalization::cell_volume);
+SparseMatrix p1_lumped_operator(const Supermesh& s);
+SparseMatrix p1_lumped_operator(const Supermesh2& s);
+SparseMatrix p1_discontinuous_operator(const Supermesh& s, P1Source source = P1Source::continuous);
+SparseMatrix p1_discontinuous_operator(const Supermesh2& s, P1Source source = P1Source::continuous);
+
+/// W u, each row summed from 0 in the order of its entries (columns ascending): how
+/// BasicRemap applies its operators and `tetia apply` a saved one, which therefore agree bit for
+/// bit. u has W.cols() values (std::invalid_argument otherwise).
+std::vector<double> apply_operator(const SparseMatrix& w, std::span<const double> u);
+
+/// Coverage. cell_coverage: per target cell, the fraction of its measure that the source covers
+/// (sum of its pieces' measures over its own; 0 for a cell of zero measure; needs only the
+/// pieces). p1_node_coverage: per target node, the fraction of its basis function's integral
+/// that the source covers, (M_ts 1)_i / m_i with m_i the lumped mass (0 for a node in no cell);
+/// from a supermesh that kept the local mixed mass matrices, or from the covered integrals
+/// M_ts 1 themselves (the loads of a field of ones, tetia::P1Loads, give them bit for bit).
+/// Both are 1 to rounding where the source covers the cell or the support, and may exceed 1
+/// only by rounding (or where source cells overlap each other).
+std::vector<double> cell_coverage(const Supermesh& s);
+std::vector<double> cell_coverage(const Supermesh2& s);
+std::vector<double> p1_node_coverage(const Supermesh& s);
+std::vector<double> p1_node_coverage(const Supermesh2& s);
+std::vector<double> p1_node_coverage(const TetMesh& target, std::span<const double> covered_integrals);
+std::vector<double> p1_node_coverage(const TriMesh& target, std::span<const double> covered_integrals);
+
 /// Helpers for discontinuous P1 fields: the values of a continuous one per cell and vertex, and
 /// the integral of a discontinuous one (sum over cells of |T| / nv times its nv values).
 std::vector<double> discontinuous_from_nodes(const TetMesh& mesh, std::span<const double> node_values);
 std::vector<double> discontinuous_from_nodes(const TriMesh& mesh, std::span<const double> node_values);
 double integral_discontinuous(const TetMesh& mesh, std::span<const double> cell_node_values);
 double integral_discontinuous(const TriMesh& mesh, std::span<const double> cell_node_values);
+/// L2 norm of (field - f) for a discontinuous P1 field, by l2_error_p1's quadrature rule.
+double l2_error_discontinuous(const TetMesh& mesh, std::span<const double> cell_node_values,
+                              const std::function<double(Vec3)>& f);
+double l2_error_discontinuous(const TriMesh& mesh, std::span<const double> cell_node_values,
+                              const std::function<double(Vec2)>& f);
 
 }  // namespace tetia

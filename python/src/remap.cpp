@@ -1,5 +1,6 @@
 // python/src/remap.cpp -- the operator behind tetia.Remap: tetia::Remap or tetia::Remap2, built
-// once (the supermesh and the matrices, without the GIL), applied to many fields.
+// once (the supermesh and the matrices, without the GIL), applied to many fields, with any of
+// its methods (tetia::RemapMethod).
 //
 // apply() is the C++ BasicRemap::apply, bit for bit, and const: two Python threads may apply
 // one operator at once (the GIL is released while it runs). The matrices leave as CSR triples
@@ -34,12 +35,27 @@ struct RemapHandle {
   }
 };
 
-RemapHandle make_remap(const MeshHandle& source, const MeshHandle& target, int order, const std::string& normalization,
-                       const std::string& search, std::optional<int> threads) {
+RemapMethod method_of(const std::string& method) {
+  if (method == "standard") return RemapMethod::standard;
+  if (method == "lumped") return RemapMethod::lumped;
+  if (method == "bounded") return RemapMethod::bounded;
+  if (method == "discontinuous") return RemapMethod::discontinuous;
+  if (method == "linear") return RemapMethod::linear_reconstruction;
+  value_error("tetia: Remap: method must be \"standard\", \"lumped\", \"bounded\", \"discontinuous\" or "
+              "\"linear\", not \"" + method + "\"");
+}
+
+RemapHandle make_remap(const MeshHandle& source, const MeshHandle& target, int order, const std::string& method,
+                       const std::string& normalization, const std::string& search, std::optional<int> threads) {
   check_same_dimension(source, target, "Remap");
   if (order != 0 && order != 1) value_error("tetia: Remap: order must be 0 or 1, not " + std::to_string(order));
   RemapOptions options;
   options.order = order;
+  options.method = method_of(method);
+  if ((options.method == RemapMethod::lumped || options.method == RemapMethod::bounded) && order != 1)
+    value_error("tetia: Remap: method \"" + method + "\" is P1: give order=1");
+  if (options.method == RemapMethod::linear_reconstruction && order != 0)
+    value_error("tetia: Remap: method \"linear\" reconstructs cell averages: give order=0");
   if (normalization == "cell_volume")
     options.normalization = P0Normalization::cell_volume;
   else if (normalization == "covered_volume")
@@ -73,7 +89,8 @@ std::pair<Doubles, int> field_of(const RemapHandle& h, const py::object& u) {
   Doubles a = as_doubles(u, "field");
   const auto cols = static_cast<py::ssize_t>(h.visit([](const auto& r) { return r.cols(); }));
   const int order = h.visit([](const auto& r) { return r.order(); });
-  const char* per = order == 0 ? "cell" : "node";
+  const bool vertices = order == 0 && h.visit([](const auto& r) { return r.method() == RemapMethod::discontinuous; });
+  const char* per = vertices ? "cell vertex" : order == 0 ? "cell" : "node";
   if (a.ndim() != 1 && a.ndim() != 2)
     value_error("tetia: Remap: the field must have shape (n,) or (n, k), got " + shape_text(a));
   if (a.shape(0) != cols)
@@ -156,7 +173,8 @@ void bind_remap(py::module_& m) {
         "P1 remap straight from two meshes: the supermesh is not kept (tetia::P1Loads).");
   py::class_<RemapHandle>(m, "RemapHandle", "tetia::Remap (3D) or tetia::Remap2 (2D), held by tetia.Remap.")
       .def(py::init(&make_remap), py::arg("source"), py::arg("target"), py::arg("order") = 0,
-           py::arg("normalization") = "cell_volume", py::arg("search") = "front", py::arg("threads") = py::none())
+           py::arg("method") = "standard", py::arg("normalization") = "cell_volume", py::arg("search") = "front",
+           py::arg("threads") = py::none())
       .def_property_readonly("order", [](const RemapHandle& h) { return h.visit([](const auto& r) { return r.order(); }); })
       .def_property_readonly("rows", [](const RemapHandle& h) { return h.visit([](const auto& r) { return r.rows(); }); })
       .def_property_readonly("cols", [](const RemapHandle& h) { return h.visit([](const auto& r) { return r.cols(); }); })
@@ -180,7 +198,14 @@ void bind_remap(py::module_& m) {
            })
       .def("mixed_mass", [](const RemapHandle& h) { return csr(h.visit([](const auto& r) { return r.mixed_mass(); })); })
       .def("target_mass", [](const RemapHandle& h) { return csr(h.visit([](const auto& r) { return r.target_mass(); })); })
-      .def("coverage", [](const RemapHandle& h) { return to_array(h.visit([](const auto& r) { return r.coverage(); })); });
+      .def("coverage", [](const RemapHandle& h) { return to_array(h.visit([](const auto& r) { return r.coverage(); })); })
+      .def("node_coverage", [](const RemapHandle& h) {
+        try {
+          return to_array(h.visit([](const auto& r) { return r.node_coverage(); }));
+        } catch (const std::logic_error& e) {
+          value_error(e.what());
+        }
+      });
 }
 
 }  // namespace tetia::python

@@ -16,7 +16,8 @@ def _csr(triple):
 
 
 class Remap:
-    """Remap(source, target, order=0, normalization="cell_volume", search="front", threads=None)
+    """Remap(source, target, order=0, method="standard", normalization="cell_volume", search="front",
+    threads=None)
 
     order 0 (P0): cell averages in and out, one value per cell given (a hexahedron is one cell).
       u_T = sum_S |S cap T| u_S / d_T, with d_T the target cell's volume (normalization
@@ -25,6 +26,19 @@ class Remap:
       overlap agree.
     order 1 (P1): nodal values in and out, the Galerkin (L2) projection M_t u_t = M_ts u_s
       (conjugate gradients on the consistent mass matrix M_t).
+
+    method (tetia/remap_methods.hpp says what each computes; all conserve the integral over the
+    overlap):
+      "standard"       P0 (order 0) or Galerkin P1 (order 1), as above
+      "lumped"         order 1: the lumped-mass projection (first order, bounded)
+      "bounded"        order 1: Galerkin corrected by clip-and-assured-sum, within the local
+                       bounds of the source exactly
+      "discontinuous"  order 1: the L2 projection onto discontinuous P1 on the target, one value
+                       per target simplex and vertex (rows = simplices x (d + 1), in the order of
+                       the simplices' nodes: mesh.simplices); order 0: cell averages of a
+                       discontinuous source (cols = source simplices x (d + 1))
+      "linear"         order 0: second-order cell averages (limited least-squares gradients)
+    normalization ("cell_volume" or "covered_volume") applies to order 0 and to "lumped".
 
     r(u) remaps u of shape (cols,) or (cols, k) (k components, each on its own) to (rows,) or
     (rows, k): bit for bit what tetia::Remap::apply returns. Safe to call from several threads
@@ -35,15 +49,24 @@ class Remap:
     r.mixed_mass   M (rows target, columns source): the pair volumes |S cap T| (order 0) or the
                    mixed mass matrix M_ts (order 1), CSR
     r.target_mass  diag(d_T) (order 0) or the target's consistent mass matrix M_t (order 1), CSR
-    r.coverage     per target cell, the fraction of its volume the source covers, (rows,)
+    r.coverage     per target cell, the fraction of its volume the source covers, (cells,)
+    r.node_coverage  per target node, the fraction of its basis function's integral the source
+                   covers (order 1 with nodal results; else ValueError)
+    For "lumped" and "discontinuous" r.matrix is the operator: r(u) is r.matrix @ u summed row by
+    row in the entries' order, what `tetia remap --save-operator` writes; "bounded" and "linear"
+    have none (their limiters depend on the field: ValueError).
     """
 
-    def __init__(self, source, target, order=0, normalization="cell_volume", search="front", threads=None):
+    def __init__(self, source, target, order=0, method="standard", normalization="cell_volume", search="front",
+                 threads=None):
         self.source, self.target = as_mesh(source, "source"), as_mesh(target, "target")
         if not isinstance(order, (int, np.integer)) or isinstance(order, bool):
             raise ValueError(f"tetia: Remap: order must be 0 or 1, not {order!r}")
-        self._handle = _tetia.RemapHandle(self.source._handle, self.target._handle, int(order), normalization,
-                                          search, threads)
+        if not isinstance(method, str):
+            raise ValueError(f"tetia: Remap: method must be a string, not {method!r}")
+        self.method = method
+        self._handle = _tetia.RemapHandle(self.source._handle, self.target._handle, int(order), method,
+                                          normalization, search, threads)
 
     @property
     def order(self):
@@ -86,8 +109,15 @@ class Remap:
         c.setflags(write=False)
         return c
 
+    @functools.cached_property
+    def node_coverage(self):
+        c = self._handle.node_coverage()
+        c.setflags(write=False)
+        return c
+
     def __repr__(self):
-        return f"<tetia.Remap order {self.order}: {self.shape[1]} -> {self.shape[0]} values per component>"
+        return (f"<tetia.Remap order {self.order}, {self.method}: {self.shape[1]} -> {self.shape[0]} values per "
+                "component>")
 
 
 def remap_p1(source, target, field, search="front", threads=None, report=False):

@@ -95,9 +95,14 @@ NodeSums node_sums(const typename detail::Dim<Mesh>::Result& s, std::span<const 
   return r;
 }
 
+// The lumped values b_i / m_i, each an average of the source values over its support, so
+// within its local bounds but for the rounding of the quotient (a 1 that comes out as
+// 1 + 2^-52 where the support is covered): clamped to them, which moves a value by that
+// rounding only, so that the bounds hold exactly.
 std::vector<double> lumped_values(const NodeSums& r) {
   std::vector<double> out(r.mass.size(), 0.0);
-  for (std::size_t i = 0; i < out.size(); ++i) out[i] = r.mass[i] > 0.0 ? r.load[static_cast<Eigen::Index>(i)] / r.mass[i] : 0.0;
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (r.mass[i] > 0.0) out[i] = std::clamp(r.load[static_cast<Eigen::Index>(i)] / r.mass[i], r.lower[i], r.upper[i]);
   return out;
 }
 
@@ -149,7 +154,52 @@ std::vector<double> bounded(const typename detail::Dim<Mesh>::Result& s, std::sp
   return y;
 }
 
+// Coverage fractions from the covered part of each basis function's integral.
+template <class Mesh>
+std::vector<double> coverage_of_nodes(const Mesh& target, std::span<const double> covered) {
+  check_size(covered.size(), target.num_nodes(), "p1_node_coverage", "target node");
+  std::vector<double> out = lumped_mass(target);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = out[i] > 0.0 ? covered[i] / out[i] : 0.0;
+  return out;
+}
+
+// The row sums of M_ts as node_sums forms them (each piece's row summed in column order, the
+// rows added in piece order): the same bits as the loads of a field of ones.
+template <class Mesh>
+std::vector<double> node_coverage(const typename detail::Dim<Mesh>::Result& s) {
+  constexpr std::size_t nv = detail::Dim<Mesh>::nv;
+  const MassSource from = check_mass_source<Mesh>(s, "p1_node_coverage");
+  const Mesh& tgt = *s.target;
+  std::vector<double> covered(tgt.num_nodes(), 0.0);
+  for_each_piece_mass<Mesh>(s, from, [&](const auto& pc, const auto& A) {
+    const auto& tn = tgt.cells[idx(pc.target)];
+    for (std::size_t i = 0; i < nv; ++i) {
+      double row = 0.0;
+      for (std::size_t j = 0; j < nv; ++j) row += A[i * nv + j];
+      covered[idx(tn[i])] += row;
+    }
+  });
+  return coverage_of_nodes(tgt, covered);
+}
+
+template <class Mesh>
+std::vector<double> cell_coverage(const typename detail::Dim<Mesh>::Result& s) {
+  check_meshes(s, "cell_coverage");
+  const auto& measures = detail::Dim<Mesh>::measures(*s.target);
+  std::vector<double> out(measures.size(), 0.0);
+  for (const auto& pc : s.pieces) out[idx(pc.target)] += detail::Dim<Mesh>::measure(pc);
+  for (std::size_t c = 0; c < out.size(); ++c) out[c] = measures[c] > 0.0 ? out[c] / measures[c] : 0.0;
+  return out;
+}
+
 }  // namespace
+
+std::vector<double> p1_node_coverage(const Supermesh& s) { return node_coverage<TetMesh>(s); }
+std::vector<double> p1_node_coverage(const Supermesh2& s) { return node_coverage<TriMesh>(s); }
+std::vector<double> p1_node_coverage(const TetMesh& t, std::span<const double> c) { return coverage_of_nodes(t, c); }
+std::vector<double> p1_node_coverage(const TriMesh& t, std::span<const double> c) { return coverage_of_nodes(t, c); }
+std::vector<double> cell_coverage(const Supermesh& s) { return cell_coverage<TetMesh>(s); }
+std::vector<double> cell_coverage(const Supermesh2& s) { return cell_coverage<TriMesh>(s); }
 
 std::vector<double> remap_p1_lumped(const Supermesh& s, std::span<const double> u) { return lumped<TetMesh>(s, u); }
 std::vector<double> remap_p1_lumped(const Supermesh2& s, std::span<const double> u) { return lumped<TriMesh>(s, u); }
