@@ -1083,22 +1083,33 @@ int run_apply(const ApplyCommand& cmd) {
       for (std::size_t j = 0; j < i; ++j)
         if (cmd.fields[i] == cmd.fields[j]) throw std::invalid_argument("tetia: --field " + cmd.fields[i] + " given twice");
     check_writable(cmd.output, "-o");
-    progress("reading " + cmd.op);
-    const OperatorFile op = read_operator(cmd.op);
+    // The operator's description first (where the fields are), the meshes and fields, then its
+    // weights, whose sizes the meshes bound.
+    const OperatorFile description = read_operator(cmd.op, 0, true);
     MeshReadOptions options;
     options.corner_nodes = cmd.corner_nodes;
     options.fields = cmd.fields;
-    options.fields_on_cells = op.columns == Location::cells;
-    options.fields_on_cell_nodes = op.columns == Location::cell_nodes;
+    options.fields_on_cells = description.columns == Location::cells;
+    options.fields_on_cell_nodes = description.columns == Location::cell_nodes;
     options.step = cmd.step;
     MeshReadOptions target_options;
     if (uncovered == Uncovered::keep) {
       target_options.fields = cmd.fields;
-      target_options.fields_on_cells = op.rows == Location::cells;
-      target_options.fields_on_cell_nodes = op.rows == Location::cell_nodes;
+      target_options.fields_on_cells = description.rows == Location::cells;
+      target_options.fields_on_cell_nodes = description.rows == Location::cell_nodes;
       target_options.step = cmd.step;
     }
     Loaded l = load_pair(cmd.source, cmd.target, options, target_options);
+    const std::size_t most = std::visit(
+        [](const auto& a, const auto& b) {
+          std::size_t n = 0;
+          for (const Location where : {Location::cells, Location::nodes, Location::cell_nodes})
+            n = std::max({n, value_count(a, where), value_count(b, where)});
+          return n;
+        },
+        l.source, l.target);
+    progress("reading " + cmd.op);
+    const OperatorFile op = read_operator(cmd.op, most);
     if (const auto* s3 = std::get_if<TetMesh>(&l.source)) {
       check_discontinuous_output(std::get<TetMesh>(l.target), op.rows, cmd.output);
       return apply_command(cmd, op, *s3, std::get<TetMesh>(l.target), std::move(l.source_fields),

@@ -22,6 +22,7 @@
 
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "remap_method.hpp"
@@ -46,6 +47,27 @@ bool is_esmf_path(const std::string& file);  // *.nc
 bool is_operator_path(const std::string& file);  // *.mtx or *.nc
 
 void write_operator(const std::string& file, const OperatorFile& op);
-OperatorFile read_operator(const std::string& file);
+/// max_values: the most rows or columns the meshes it is for can have (nothing larger is
+/// allocated: a file's sizes are checked against it and against the file's own size first).
+/// description_only: the dimension, method, normalization, rows and columns without the
+/// weights (what the reader of the meshes needs to know first).
+OperatorFile read_operator(const std::string& file, std::size_t max_values = static_cast<std::size_t>(-1),
+                           bool description_only = false);
+
+// The formats (app/operator_mtx.cpp, app/operator_esmf.cpp); parse_mtx is the Matrix Market
+// reader on the file's text (`file` names it in errors), which fuzz/fuzz_operator_mtx.cpp fuzzes.
+void write_mtx(const std::string& file, const OperatorFile& op);
+OperatorFile read_mtx(const std::string& file, std::size_t max_values, bool description_only);
+OperatorFile parse_mtx(std::string_view text, const std::string& file, std::size_t max_values,
+                       bool description_only = false);
+void write_esmf(const std::string& file, const OperatorFile& op);
+OperatorFile read_esmf(const std::string& file, std::size_t max_values, bool description_only);
+
+// What both formats share: a location's name back to it, the description's checks, and the
+// entries into a matrix (an entry given twice is an error). Errors name `where`.
+Location parse_location(const std::string& s, const std::string& where);
+void check_description(const OperatorFile& op, const std::string& where);
+SparseMatrix from_entries(std::size_t rows, std::size_t cols, const std::vector<Eigen::Triplet<double>>& t,
+                          const std::string& where);
 
 }  // namespace tetia::app

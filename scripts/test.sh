@@ -66,11 +66,11 @@ step "fuzz (clang++, libFuzzer + ASan/UBSan, a fixed seed and number of inputs p
 # A fixed seed and a fixed number of inputs (not a time): every machine explores the same
 # inputs, so that the suite's verdict does not depend on chance or on the machine's speed.
 # About 10 s for the 3D kernel (its exact checks are slow), 20 s for the 2D one, 10 s for the
-# .msh reader and 5 s for meshes from arrays here; longer or other runs: scripts/fuzz.sh. The
+# .msh reader, 5 s for meshes from arrays and a few for the operator reader here; longer or other runs: scripts/fuzz.sh. The
 # time only caps a runaway run.
 TETIA_FUZZ_SECONDS="${TETIA_FUZZ_SECONDS:-600}" TETIA_FUZZ_RUNS_TET="${TETIA_FUZZ_RUNS_TET:-1500}" \
   TETIA_FUZZ_RUNS_TRI="${TETIA_FUZZ_RUNS_TRI:-10000}" TETIA_FUZZ_RUNS_MSH="${TETIA_FUZZ_RUNS_MSH:-200000}" \
-  TETIA_FUZZ_RUNS_ARRAYS="${TETIA_FUZZ_RUNS_ARRAYS:-100000}" \
+  TETIA_FUZZ_RUNS_ARRAYS="${TETIA_FUZZ_RUNS_ARRAYS:-100000}" TETIA_FUZZ_RUNS_OPERATOR="${TETIA_FUZZ_RUNS_OPERATOR:-100000}" \
   TETIA_FUZZ_ARGS="${TETIA_FUZZ_ARGS:--seed=1}" bash scripts/fuzz.sh
 
 step "all tests passed"

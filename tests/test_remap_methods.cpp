@@ -10,12 +10,14 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <random>
 #include <vector>
 
 #include "tetia/mesh.hpp"
 #include "tetia/remap.hpp"
 #include "tetia/remap_methods.hpp"
+#include "tetia/remap_operator.hpp"
 #include "tetia/supermesh.hpp"
 
 namespace {
@@ -510,8 +512,68 @@ TYPED_TEST(RemapMethods, OperatorsApplyTheirMethods) {
       for (const auto v : tgt.cells[c]) all_covered[static_cast<std::size_t>(v)] = 0;
   for (std::size_t i = 0; i < node_cov.size(); ++i) {
     EXPECT_NEAR(node_cov[i], ones[i], 1e-15) << i;
-    if (all_covered[i]) EXPECT_NEAR(node_cov[i], 1.0, 1e-13) << i;
+    if (all_covered[i]) {
+      EXPECT_NEAR(node_cov[i], 1.0, 1e-13) << i;
+    }
     EXPECT_GE(node_cov[i], 0.0);
     EXPECT_LE(node_cov[i], 1.0 + 1e-13);
   }
+}
+
+// The operator built once (tetia::Remap, RemapOptions::method) gives each method's values: the
+// bounded P1 and the reconstruction bit for bit the free functions on its supermesh, the linear
+// methods their matrix applied (apply_operator) bit for bit and the free functions to rounding;
+// rows and columns as the methods have them; node_coverage for nodal results.
+TYPED_TEST(RemapMethods, OperatorBuiltOnceHasEveryMethod) {
+  using D = TypeParam;
+  using T = RemapMethods<D>;
+  using Mesh = typename D::Mesh;
+  auto src = std::make_shared<const Mesh>(T::jittered(D::nv == 4 ? 4 : 11, 31));
+  Mesh shifted = T::jittered(D::nv == 4 ? 3 : 8, 32);
+  for (auto& p : shifted.nodes) p.x += 0.2;
+  tetia::finalize(shifted, "shifted");
+  auto tgt = std::make_shared<const Mesh>(shifted);
+  const auto nodes = T::random_values(src->num_nodes(), 33);
+  const auto cells = T::random_values(src->num_cells(), 34);
+  const auto dg = T::random_values(src->num_cells() * D::nv, 35);
+  const auto make = [&](int order, tetia::RemapMethod m) {
+    tetia::RemapOptions o;
+    o.order = order;
+    o.method = m;
+    return tetia::BasicRemap<Mesh>(src, tgt, o);
+  };
+  const auto close = [](const std::vector<double>& a, const std::vector<double>& b) {
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], b[i], 1e-13 * (1.0 + std::abs(b[i]))) << i;
+  };
+  {
+    const auto r = make(1, tetia::RemapMethod::bounded);
+    EXPECT_EQ(r.apply(nodes), tetia::remap_p1_bounded(r.supermesh(), nodes));
+    EXPECT_THROW((void)r.matrix(), std::logic_error);
+    EXPECT_EQ(r.node_coverage(), tetia::p1_node_coverage(r.supermesh()));
+  }
+  {
+    const auto r = make(0, tetia::RemapMethod::linear_reconstruction);
+    EXPECT_EQ(r.apply(cells), tetia::remap_p0_linear(r.supermesh(), cells));
+  }
+  {
+    const auto r = make(1, tetia::RemapMethod::lumped);
+    EXPECT_EQ(r.apply(nodes), tetia::apply_operator(r.matrix(), nodes));
+    close(r.apply(nodes), tetia::remap_p1_lumped(r.supermesh(), nodes));
+  }
+  {
+    const auto r = make(1, tetia::RemapMethod::discontinuous);
+    EXPECT_EQ(r.rows(), tgt->num_cells() * D::nv);
+    EXPECT_EQ(r.apply(nodes), tetia::apply_operator(r.matrix(), nodes));
+    close(r.apply(nodes), tetia::remap_p1_discontinuous(r.supermesh(), nodes));
+    EXPECT_THROW((void)r.node_coverage(), std::logic_error);
+  }
+  {
+    const auto r = make(0, tetia::RemapMethod::discontinuous);
+    EXPECT_EQ(r.cols(), src->num_cells() * D::nv);
+    close(r.apply(dg), tetia::remap_p0_from_discontinuous(r.supermesh(), dg));
+  }
+  EXPECT_THROW(make(0, tetia::RemapMethod::lumped), std::invalid_argument);
+  EXPECT_THROW(make(0, tetia::RemapMethod::bounded), std::invalid_argument);
+  EXPECT_THROW(make(1, tetia::RemapMethod::linear_reconstruction), std::invalid_argument);
 }
