@@ -500,25 +500,6 @@ class StreamedP1 final : public Kind<Mesh>::Loads {
   std::size_t pairs_ = 0;
 };
 
-// One component by the method, from a kept supermesh.
-template <class Mesh>
-std::vector<double> remap_one(Method method, const typename Kind<Mesh>::Result& s, const std::vector<double>& u,
-                              P1RemapReport* report) {
-  switch (method) {
-    case Method::p0: return remap_p0(s, u);
-    case Method::p0_linear: {
-      const auto& origin = s.source->cell_origin;  // a split file cell is reconstructed as one
-      return remap_p0_linear(s, u, P0Normalization::cell_volume, std::span<const std::int32_t>(origin));
-    }
-    case Method::p0_from_discontinuous: return remap_p0_from_discontinuous(s, u);
-    case Method::p1: return remap_p1(s, u, report);
-    case Method::p1_lumped: return remap_p1_lumped(s, u);
-    case Method::p1_bounded: return remap_p1_bounded(s, u, report);
-    case Method::p1_discontinuous: return remap_p1_discontinuous(s, u);
-  }
-  throw std::logic_error("tetia: unknown remap method");
-}
-
 // Every component remapped: by P1 loads handed the pieces (Galerkin P1 without --matrix, one
 // process), else from a kept supermesh (the other methods; P1 with --matrix, which needs the
 // pieces' matrices; several MPI ranks, whose pieces are gathered), with the same results bit

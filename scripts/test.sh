@@ -19,7 +19,8 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 jobs="${TETIA_JOBS:-2}"
 cxx="${TETIA_CXX:-clang++}"
 
-step() { printf '\n==> %s\n' "$*"; }
+# Each step with the time it starts (UTC), so that a slow step shows in the log.
+step() { printf '\n==> %s (%s)\n' "$*" "$(date -u +%H:%M:%S)"; }
 
 step "dependencies"
 bash scripts/install-deps.sh

@@ -1,7 +1,7 @@
 // The remap operator built once (tetia/remap_operator.hpp) and meshes from arrays
-// (tetia/mesh_from_arrays.hpp): the operator gives what the free functions give, bit for bit,
-// for both orders, dimensions and normalizations; its matrices are the ones in memory and its
-// matrix reproduces its application; meshes of hexahedra and prisms from arrays tile their
+// (tetia/mesh_from_arrays.hpp): the operator gives what the free functions give (P1 bit for bit,
+// P0 to rounding: it is its matrix applied, bit for bit), for both orders, dimensions and
+// normalizations; its matrices are the ones in memory; meshes of hexahedra and prisms from arrays tile their
 // domain, conform, and remap per file cell; bad arrays give errors naming the cell.
 #include <gtest/gtest.h>
 

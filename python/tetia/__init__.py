@@ -1,5 +1,6 @@
 """tetia: robust intersection of tetrahedra and triangles, supermeshes of non-matching meshes,
-and conservative remap between them (P0 and P1), from NumPy arrays and meshio meshes.
+and conservative remap between them (P0, P1 and their lumped, bounded, discontinuous and
+reconstructed variants), from NumPy arrays and meshio meshes.
 
     import tetia
     tetia.intersection_volume(U, V)          # U, V: (4, 3) or (n, 4, 3) arrays
@@ -7,6 +8,7 @@ and conservative remap between them (P0 and P1), from NumPy arrays and meshio me
     target = tetia.Mesh(points, {"tetra": cells})
     r = tetia.Remap(source, target, order=0) # built once
     u_target = r(u_source)                   # applied to many fields; r.matrix is SciPy CSR
+    b = tetia.Remap(source, target, order=1, method="bounded")  # also "lumped", "discontinuous", "linear"
     u_target = tetia.remap_p1(source, target, u_source)  # P1 once, for large meshes: nothing kept
 
 Every volume, area and remapped value is what the C++ library returns, bit for bit; the GIL is
