@@ -37,9 +37,9 @@
 //   discontinuous source, cols() = source simplices x (d + 1)): linear, so apply() is matrix()
 //   times the field, summed by apply_operator (each row in the order of its entries), which is
 //   what `tetia remap` computes and `tetia apply` gives back from a saved operator, bit for bit.
-//   matrix() is W on file cells (a target file cell's row: the measure-weighted average of its
-//   simplices' rows; a source file cell's column: the sum of its simplices'), with
-//   `normalization` (order 0, and lumped: the row divided by the covered fraction).
+//   matrix() is W with the rows and columns above; where the result is per cell (order 0), a
+//   target file cell's row is the measure-weighted average of its simplices' rows. The
+//   normalization applies to order 0 and to lumped (a row divided by the covered fraction).
 // - bounded (order 1): remap_p1_bounded per component; linear_reconstruction (order 0):
 //   remap_p0_linear per component, reconstructed per source file cell, its averages taken to
 //   the target's file cells and renormalized as P0. Both depend on the field: no matrix().
@@ -63,9 +63,9 @@ enum class RemapMethod { standard, lumped, bounded, discontinuous, linear_recons
 struct RemapOptions {
   int order = 0;  ///< 0: cell averages (P0), 1: nodal values (P1)
   RemapMethod method = RemapMethod::standard;
-  P0Normalization normalization = P0Normalization::cell_volume;  ///< order 0 only
+  P0Normalization normalization = P0Normalization::cell_volume;  ///< order 0, and lumped
   /// The supermesh's search, threads and progress; what it keeps is set by the operator (the
-  /// local mixed mass matrices for order 1, nothing for order 0).
+  /// local mixed mass matrices for order 1 and the discontinuous methods, nothing else).
   SupermeshOptions supermesh;
 };
 
@@ -75,14 +75,15 @@ class BasicRemap {
   using Result = std::conditional_t<std::is_same_v<Mesh, TetMesh>, Supermesh, Supermesh2>;
 
   BasicRemap(std::shared_ptr<const Mesh> source, std::shared_ptr<const Mesh> target, const RemapOptions& options = {});
-  /// From a supermesh already built (for order 1 it must have kept the local mixed mass
-  /// matrices or the shapes, as remap_p1 needs).
+  /// From a supermesh already built (for order 1 and the discontinuous methods it must have
+  /// kept the local mixed mass matrices or the shapes, as remap_p1 needs).
   BasicRemap(Result supermesh, int order, P0Normalization normalization = P0Normalization::cell_volume,
              RemapMethod method = RemapMethod::standard);
 
   int order() const { return order_; }
   RemapMethod method() const { return method_; }
-  /// Values a field has per component: target (rows) and source (columns) file cells or nodes.
+  /// Values a field has per component: target (rows) and source (columns) file cells, nodes,
+  /// or simplices' vertices (the discontinuous methods).
   std::size_t rows() const;
   std::size_t cols() const;
 
