@@ -90,9 +90,7 @@ auto at(const Cell& T, const std::array<double, N>& b) {
 template <class Mesh>
 std::vector<double> covered(const typename detail::Dim<Mesh>::Result& s, const char* who) {
   check_meshes(s, who);
-  std::vector<double> cov(s.target->num_cells(), 0.0);
-  for (const auto& pc : s.pieces) cov[idx(pc.target)] += detail::Dim<Mesh>::measure(pc);
-  return cov;
+  return covered_measures<Mesh>(s);
 }
 
 template <class Mesh>

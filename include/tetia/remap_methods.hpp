@@ -148,6 +148,14 @@ std::vector<double> p1_node_coverage(const Supermesh& s);
 std::vector<double> p1_node_coverage(const Supermesh2& s);
 std::vector<double> p1_node_coverage(const TetMesh& target, std::span<const double> covered_integrals);
 std::vector<double> p1_node_coverage(const TriMesh& target, std::span<const double> covered_integrals);
+/// The same per target cell from each cell's covered measure (the sum of its pieces' measures,
+/// in piece order, as a PieceConsumer sees them: bit for bit cell_coverage of a kept supermesh).
+std::vector<double> cell_coverage(const TetMesh& target, std::span<const double> covered_measures);
+std::vector<double> cell_coverage(const TriMesh& target, std::span<const double> covered_measures);
+/// Per node, the integral of its basis function: sum over its cells of |T| / (d + 1) (the lumped
+/// mass; p1_node_coverage's denominator).
+std::vector<double> lumped_mass(const TetMesh& mesh);
+std::vector<double> lumped_mass(const TriMesh& mesh);
 
 /// Helpers for discontinuous P1 fields: the values of a continuous one per cell and vertex, and
 /// the integral of a discontinuous one (sum over cells of |T| / nv times its nv values).

@@ -125,6 +125,38 @@ Eigen::VectorXd mixed_mass_times(const typename detail::Dim<Mesh>::Result& s, Ma
   return b;
 }
 
+// Per target cell, the measure the source covers: the sum of its pieces' measures, in piece
+// order (covered_volumes, the P0 denominators, the cell coverage).
+template <class Mesh>
+std::vector<double> covered_measures(const typename detail::Dim<Mesh>::Result& s) {
+  std::vector<double> cov(s.target->num_cells(), 0.0);
+  for (const auto& pc : s.pieces) cov[idx(pc.target)] += detail::Dim<Mesh>::measure(pc);
+  return cov;
+}
+
+// The integral of each basis function of a mesh: sum over its cells of |T| / nv (the row sums
+// of the consistent mass matrix, the lumped mass).
+template <class Mesh>
+std::vector<double> lumped_mass(const Mesh& m) {
+  using Dm = detail::Dim<Mesh>;
+  std::vector<double> out(m.num_nodes(), 0.0);
+  const auto& measures = Dm::measures(m);
+  for (std::size_t c = 0; c < m.num_cells(); ++c)
+    for (const auto v : m.cells[c]) out[idx(v)] += measures[c] * (1.0 / Dm::nv);
+  return out;
+}
+
+// An operator's rows divided by by[row] (lumped masses, covered fractions); a row with
+// by[row] = 0 is emptied: nothing covers it.
+inline void divide_rows(SparseMatrix& w, const std::vector<double>& by) {
+  for (Eigen::Index r = 0; r < w.outerSize(); ++r)
+    for (SparseMatrix::InnerIterator it(w, r); it; ++it) {
+      const double d = by[static_cast<std::size_t>(r)];
+      it.valueRef() = d > 0.0 ? it.value() / d : 0.0;
+    }
+  w.prune([&](Eigen::Index r, Eigen::Index, double) { return by[static_cast<std::size_t>(r)] > 0.0; });
+}
+
 // P0's division of each target cell's integral by its measure (cell_volume) or its covered
 // measure (covered_volume); 0 where that is 0.
 template <class Mesh>

@@ -28,11 +28,8 @@ SparseMatrix from_triplets(std::size_t rows, std::size_t cols, const Triplets& t
 // empty, the cell's value 0 as remap_p0 gives it).
 template <class Mesh>
 std::vector<double> p0_denominators(const typename detail::Dim<Mesh>::Result& s, P0Normalization n) {
-  const Mesh& tgt = *s.target;
-  if (n == P0Normalization::cell_volume) return detail::Dim<Mesh>::measures(tgt);
-  std::vector<double> cov(tgt.num_cells(), 0.0);
-  for (const auto& pc : s.pieces) cov[idx(pc.target)] += detail::Dim<Mesh>::measure(pc);
-  return cov;
+  if (n == P0Normalization::cell_volume) return detail::Dim<Mesh>::measures(*s.target);
+  return covered_measures<Mesh>(s);
 }
 
 template <class Mesh>
@@ -83,15 +80,7 @@ SparseMatrix lumped_op(const typename detail::Dim<Mesh>::Result& s) {
       for (std::size_t j = 0; j < nv; ++j) t.emplace_back(tn[i], sn[j], A[i * nv + j]);
   });
   SparseMatrix w = from_triplets(tgt.num_nodes(), src.num_nodes(), t);  // M_ts
-  // Rows divided by the lumped masses m_i = sum over the node's cells of |T| / nv.
-  std::vector<double> mass(tgt.num_nodes(), 0.0);
-  const auto& measures = Dm::measures(tgt);
-  for (std::size_t c = 0; c < tgt.num_cells(); ++c)
-    for (const auto v : tgt.cells[c]) mass[idx(v)] += measures[c] * (1.0 / nv);
-  for (Eigen::Index r = 0; r < w.outerSize(); ++r)
-    for (SparseMatrix::InnerIterator it(w, r); it; ++it)
-      it.valueRef() = mass[static_cast<std::size_t>(r)] > 0.0 ? it.value() / mass[static_cast<std::size_t>(r)] : 0.0;
-  w.prune(0.0, 0.0);
+  divide_rows(w, lumped_mass(tgt));  // by the lumped masses m_i
   return w;
 }
 

@@ -26,18 +26,6 @@ using namespace detail::remap;
 // lack that much room, which is then not conserved) or gain it.
 constexpr double kCoveredFraction = 1.0 - 1e-12;
 
-// The integral of each target basis function: sum over its cells of |T| / nv (the row sums of
-// the consistent mass matrix).
-template <class Mesh>
-std::vector<double> lumped_mass(const Mesh& m) {
-  using Dm = detail::Dim<Mesh>;
-  std::vector<double> out(m.num_nodes(), 0.0);
-  const auto& measures = Dm::measures(m);
-  for (std::size_t c = 0; c < m.num_cells(); ++c)
-    for (const auto v : m.cells[c]) out[idx(v)] += measures[c] * (1.0 / Dm::nv);
-  return out;
-}
-
 // What the three methods share: the loads b = M_ts u_s, the lumped mass m, the covered part of
 // each basis function's integral (the row sums of M_ts), and the local bounds.
 struct NodeSums {
@@ -182,14 +170,20 @@ std::vector<double> node_coverage(const typename detail::Dim<Mesh>::Result& s) {
   return coverage_of_nodes(tgt, covered);
 }
 
+// Coverage fractions from the covered measure of each target cell.
+template <class Mesh>
+std::vector<double> coverage_of_cells(const Mesh& target, std::span<const double> covered) {
+  check_size(covered.size(), target.num_cells(), "cell_coverage", "target cell");
+  const auto& measures = detail::Dim<Mesh>::measures(target);
+  std::vector<double> out(covered.begin(), covered.end());
+  for (std::size_t c = 0; c < out.size(); ++c) out[c] = measures[c] > 0.0 ? out[c] / measures[c] : 0.0;
+  return out;
+}
+
 template <class Mesh>
 std::vector<double> cell_coverage(const typename detail::Dim<Mesh>::Result& s) {
   check_meshes(s, "cell_coverage");
-  const auto& measures = detail::Dim<Mesh>::measures(*s.target);
-  std::vector<double> out(measures.size(), 0.0);
-  for (const auto& pc : s.pieces) out[idx(pc.target)] += detail::Dim<Mesh>::measure(pc);
-  for (std::size_t c = 0; c < out.size(); ++c) out[c] = measures[c] > 0.0 ? out[c] / measures[c] : 0.0;
-  return out;
+  return coverage_of_cells(*s.target, covered_measures<Mesh>(s));
 }
 
 }  // namespace
@@ -200,6 +194,10 @@ std::vector<double> p1_node_coverage(const TetMesh& t, std::span<const double> c
 std::vector<double> p1_node_coverage(const TriMesh& t, std::span<const double> c) { return coverage_of_nodes(t, c); }
 std::vector<double> cell_coverage(const Supermesh& s) { return cell_coverage<TetMesh>(s); }
 std::vector<double> cell_coverage(const Supermesh2& s) { return cell_coverage<TriMesh>(s); }
+std::vector<double> cell_coverage(const TetMesh& t, std::span<const double> c) { return coverage_of_cells(t, c); }
+std::vector<double> cell_coverage(const TriMesh& t, std::span<const double> c) { return coverage_of_cells(t, c); }
+std::vector<double> lumped_mass(const TetMesh& m) { return detail::remap::lumped_mass(m); }
+std::vector<double> lumped_mass(const TriMesh& m) { return detail::remap::lumped_mass(m); }
 
 std::vector<double> remap_p1_lumped(const Supermesh& s, std::span<const double> u) { return lumped<TetMesh>(s, u); }
 std::vector<double> remap_p1_lumped(const Supermesh2& s, std::span<const double> u) { return lumped<TriMesh>(s, u); }

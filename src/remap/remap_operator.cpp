@@ -32,16 +32,6 @@ void check_order(int order, RemapMethod method) {
 // methods; nothing else for cell averages and their reconstruction.
 bool needs_mass(int order, RemapMethod method) { return order == 1 || method == RemapMethod::discontinuous; }
 
-// Rows scaled by 1 / by[row]; a row with by[row] = 0 emptied (nothing covers it).
-void divide_rows(SparseMatrix& w, const std::vector<double>& by) {
-  for (Eigen::Index r = 0; r < w.outerSize(); ++r)
-    for (SparseMatrix::InnerIterator it(w, r); it; ++it) {
-      const double d = by[static_cast<std::size_t>(r)];
-      it.valueRef() = d > 0.0 ? it.value() / d : 0.0;
-    }
-  w.prune([&](Eigen::Index r, Eigen::Index, double) { return by[static_cast<std::size_t>(r)] > 0.0; });
-}
-
 }  // namespace
 
 template <class Mesh>
