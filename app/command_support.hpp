@@ -12,6 +12,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <functional>
@@ -247,6 +248,41 @@ inline Loaded load_pair(const std::string& source, const std::string& target, co
                                 "; both meshes must have the same dimension");
   }
   return l;
+}
+
+// Options that read `fields` (at time step `step`) where a method has them: cell, node or
+// element-node data.
+inline MeshReadOptions fields_at(const std::vector<std::string>& fields, Location where, std::int64_t step) {
+  MeshReadOptions o;
+  o.fields = fields;
+  o.fields_on_cells = where == Location::cells;
+  o.fields_on_cell_nodes = where == Location::cell_nodes;
+  o.step = step;
+  return o;
+}
+
+// A usage error for a --field named twice.
+inline void check_distinct_fields(const std::vector<std::string>& fields) {
+  for (std::size_t i = 0; i < fields.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (fields[i] == fields[j]) throw std::invalid_argument("tetia: --field " + fields[i] + " given twice");
+}
+
+// For --uncovered keep: each target field must have as many components as the source's.
+inline void check_kept_components(const Loaded& l, const std::string& source, const std::string& target) {
+  for (std::size_t i = 0; i < l.target_fields.size(); ++i)
+    if (l.target_fields[i].components != l.source_fields[i].components)
+      throw std::invalid_argument("tetia: --uncovered keep: field " + l.source_fields[i].name + " has " +
+                                  std::to_string(l.source_fields[i].components) + " components in " + source +
+                                  " but " + std::to_string(l.target_fields[i].components) + " in " + target);
+}
+
+// Component k of a field's values (`components` in a row per entity).
+inline std::vector<double> component_of(const std::vector<double>& values, int components, std::size_t k) {
+  const auto nc = static_cast<std::size_t>(components);
+  std::vector<double> out(values.size() / nc);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = values[i * nc + k];
+  return out;
 }
 
 // The JSON key that says a geometry was made straight (only with --corner-nodes).

@@ -47,17 +47,6 @@ std::vector<double> operator_columns(const Mesh& m, Location where, std::span<co
   return out;
 }
 
-// Per node, the integral of its basis function: sum over its cells of |T| / (d + 1).
-template <class Mesh>
-std::vector<double> lumped_masses(const Mesh& m) {
-  constexpr std::size_t nv = Kind<Mesh>::dim + 1;
-  const auto& measures = Kind<Mesh>::measures(m);
-  std::vector<double> out(m.num_nodes(), 0.0);
-  for (std::size_t c = 0; c < m.num_cells(); ++c)
-    for (const auto v : m.cells[c]) out[static_cast<std::size_t>(v)] += measures[c] * (1.0 / nv);
-  return out;
-}
-
 // What an ESMF weight file holds beside the weights: per value, the measure it stands for
 // (a file cell's, a node's lumped mass, a cell vertex's |T| / (d + 1)) and the fraction of it
 // that the other mesh covers. For the target: file_coverage (per file cell), node_coverage (per
@@ -78,7 +67,7 @@ void add_esmf_measures(OperatorFile& op, const typename Kind<Mesh>::Result& s, c
   };
   const auto area = [&](const Mesh& m, Location where) {
     if (where == Location::cells) return file_cell_measures(m);
-    if (where == Location::nodes) return lumped_masses(m);
+    if (where == Location::nodes) return lumped_mass(m);
     return per_vertex(m, K::measures(m), true);
   };
   op.area_b = area(tgt, op.rows);
@@ -91,7 +80,7 @@ void add_esmf_measures(OperatorFile& op, const typename Kind<Mesh>::Result& s, c
     std::vector<double> covered(src.num_nodes(), 0.0);
     for (Eigen::Index r = 0; r < m.outerSize(); ++r)
       for (SparseMatrix::InnerIterator it(m, r); it; ++it) covered[static_cast<std::size_t>(it.col())] += it.value();
-    op.frac_a = lumped_masses(src);
+    op.frac_a = lumped_mass(src);
     for (std::size_t i = 0; i < covered.size(); ++i) op.frac_a[i] = op.frac_a[i] > 0.0 ? covered[i] / op.frac_a[i] : 0.0;
     return;
   }

@@ -87,10 +87,7 @@ class StreamedP1 final : public Kind<Mesh>::Loads {
     r.pairs = pairs_;
     r.total = total_.value();
     for (const auto& o : overlap_) r.overlap.push_back(o.value());
-    const auto& measures = Kind<Mesh>::measures(target_);
-    r.cell_coverage = std::move(covered_);  // as tetia::cell_coverage divides, bit for bit
-    for (std::size_t c = 0; c < measures.size(); ++c)
-      r.cell_coverage[c] = measures[c] > 0.0 ? r.cell_coverage[c] / measures[c] : 0.0;
+    r.cell_coverage = cell_coverage(target_, covered_);
     const Eigen::VectorXd& ones = this->loads().back();
     r.node_coverage = p1_node_coverage(target_, std::span<const double>(ones.data(), static_cast<std::size_t>(ones.size())));
   }
@@ -249,25 +246,13 @@ CoverageSummary summarize_coverage(const std::vector<double>& fractions, const c
   return c;
 }
 
-// A target field's own value (for --uncovered keep) at an entity where the result has its
-// values: a node, a simplex's vertex, or a file cell (the value of its first simplex: the
-// reader gives a file cell's value to each of its simplices).
-template <class Mesh>
-class TargetValues {
- public:
-  TargetValues(const Mesh& target, Location where) : where_(where) {
-    if (where != Location::cells) return;
-    first_simplex_.assign(target.num_file_cells(), 0);
-    for (std::size_t c = target.num_cells(); c-- > 0;) first_simplex_[target.file_cell(c)] = c;
+// An output file's fields by where they live: cell data (per file cell, or per simplex where
+// the output has the simplices), node data, element-node data (discontinuous fields).
+struct OutputFields {
+  std::vector<Field> cells, nodes, cell_nodes;
+  void add(Location where, Field field) {
+    (where == Location::cells ? cells : where == Location::nodes ? nodes : cell_nodes).push_back(std::move(field));
   }
-  double operator()(const Field& field, std::size_t entity, std::size_t component) const {
-    const std::size_t at = where_ == Location::cells ? first_simplex_[entity] : entity;
-    return field.values[at * static_cast<std::size_t>(field.components) + component];
-  }
-
- private:
-  Location where_;
-  std::vector<std::size_t> first_simplex_;
 };
 
 // --uncovered on one component: the values of the entities nothing covers replaced.
@@ -288,23 +273,22 @@ void replace_uncovered(std::vector<double>& values, Uncovered policy, const Unco
 // component j, at k * components + j), and the cells are the simplices if the target has split
 // cells (`per_simplex`; its cell data then per simplex too).
 template <class Mesh>
-void write_result_file(const std::string& file, const Mesh& target, std::vector<Field> cell_data,
-                       const std::vector<Field>& point_data, std::vector<Field> cell_node_data, bool per_simplex,
-                       bool ascii, int threads) {
+void write_result_file(const std::string& file, const Mesh& target, OutputFields out, bool per_simplex, bool ascii,
+                       int threads) {
   progress("writing " + file);
   if (is_msh_path(file)) {
-    write_msh(file, target, cell_data, point_data, cell_node_data);
+    write_msh(file, target, out.cells, out.nodes, out.cell_nodes);
     return;
   }
-  for (Field& dg : cell_node_data) {
+  for (Field& dg : out.cell_nodes) {
     dg.components *= Kind<Mesh>::dim + 1;
-    cell_data.push_back(std::move(dg));
+    out.cells.push_back(std::move(dg));
   }
   VtuOptions vtu;
   vtu.format = ascii ? VtuFormat::ascii : VtuFormat::binary;
   vtu.threads = threads;
   vtu.simplices = per_simplex;
-  write_vtu(file, target, cell_data, point_data, vtu);
+  write_vtu(file, target, out.cells, out.nodes, vtu);
 }
 
 // A usage error for a discontinuous result that a .msh file cannot hold (element-node data are
@@ -347,13 +331,9 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
   // per component. Every number is formatted before anything is printed (num() fails on one
   // that is not finite), then one line of JSON.
   std::vector<std::vector<double>> components;
-  for (const Input& in : inputs) {
-    const auto nc = static_cast<std::size_t>(in.components);
-    for (std::size_t k = 0; k < nc; ++k) {
-      std::vector<double>& component = components.emplace_back(in.values.size() / nc);
-      for (std::size_t i = 0; i < component.size(); ++i) component[i] = in.values[i * nc + k];
-    }
-  }
+  for (const Input& in : inputs)
+    for (std::size_t k = 0; k < static_cast<std::size_t>(in.components); ++k)
+      components.push_back(component_of(in.values, in.components, k));
   Remapped remapped = remap_components(cmd, method, source, target, components);
   // Coverage per file cell (the volume-weighted average of its simplices' fractions is its
   // covered measure over its measure), or per simplex where the output has the simplices.
@@ -363,9 +343,8 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
   const std::vector<double>& carrier_coverage =
       to == Location::nodes ? remapped.node_coverage : to == Location::cells ? coverage : remapped.cell_coverage;
   const CoverageSummary summary = summarize_coverage(carrier_coverage, to == Location::nodes ? "nodes" : "cells");
-  const TargetValues<Mesh> kept_value(target, to);  // --uncovered keep
   std::size_t next_component = 0;
-  std::vector<Field> cell_data, point_data, cell_node_data;
+  OutputFields output;
   std::string fields_json;
   double first[4] = {0, 0, 0, 0};  // source, overlap, target integral, conservation: the first component
   std::vector<double> first_out;
@@ -374,9 +353,7 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
     const auto nc = static_cast<std::size_t>(in.components);
     // Cell averages are per file cell of the target (a hexahedron's value is the volume-weighted
     // average of its tetrahedra's, which is the projection onto constants per hexahedron).
-    const std::size_t n_tgt = to == Location::cells ? target.num_file_cells()
-                              : to == Location::nodes ? target.num_nodes()
-                                                      : target.num_cells() * nv;
+    const std::size_t n_tgt = value_count(target, to);
     std::vector<double> out(n_tgt * nc);
     std::string ints[4];
     for (std::size_t k = 0; k < nc; ++k) {
@@ -401,34 +378,36 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
         std::copy(values, values + 4, first);
         first_out = result;
       }
-      // --uncovered: what the carriers that nothing covers get.
+      // --uncovered: what the carriers that nothing covers get (keep: the target's own values
+      // where the result has them).
+      std::vector<double> kept;
+      if (uncovered == Uncovered::keep) {
+        const Field& own = target_fields[field_index];
+        kept = operator_columns(target, to, component_of(own.values, own.components, k));
+      }
       replace_uncovered(
           carried, uncovered,
           [&](std::size_t i) { return carrier_coverage[to == Location::cell_nodes ? i / nv : i] == 0.0; },
-          [&](std::size_t i) { return kept_value(target_fields[field_index], i, k); });
+          [&](std::size_t i) { return kept[i]; });
       for (std::size_t i = 0; i < n_tgt; ++i) out[i * nc + k] = carried[i];
     }
     fields_json += std::string(fields_json.empty() ? "" : ", ") + "{\"name\": \"" + json_escape(in.name) +
                    "\", \"components\": " + std::to_string(in.components) + ", \"source_integral\": [" + ints[0] +
                    "], \"overlap_integral\": [" + ints[1] + "], \"target_integral\": [" + ints[2] +
                    "], \"conservation_error\": [" + ints[3] + "]}";
-    if (to == Location::cells) cell_data.push_back({in.name, std::move(out), in.components});
-    else if (to == Location::nodes) point_data.push_back({in.name, std::move(out), in.components});
-    else cell_node_data.push_back({in.name, std::move(out), in.components});
+    output.add(to, {in.name, std::move(out), in.components});
   }
   double error = -1.0, relative = -1.0;
   if (f) {
     std::vector<double> exact = to == Location::cells ? file_cell_average(target, average_over_cells(target, f))
                                                       : expression_values(target, to, f);
-    if (to == Location::cells) cell_data.push_back({"exact", std::move(exact)});
-    else if (to == Location::nodes) point_data.push_back({"exact", std::move(exact)});
-    else cell_node_data.push_back({"exact", std::move(exact)});
+    output.add(to, {"exact", std::move(exact)});
     error = l2_error_at(target, first_out, to, f);
     const double norm = l2_norm(target, f);
     relative = norm > 0.0 ? error / norm : error;
   }
-  cell_data.push_back({"covered_fraction", coverage});
-  if (to == Location::nodes) point_data.push_back({"node_covered_fraction", remapped.node_coverage});
+  output.add(Location::cells, {"covered_fraction", coverage});
+  if (to == Location::nodes) output.add(Location::nodes, {"node_covered_fraction", remapped.node_coverage});
   const std::string m = K::measure;
   const std::string totals[3] = {num(K::total(source), "source total"), num(K::total(target), "target total"),
                                  num(remapped.total, "intersection total")};
@@ -442,8 +421,7 @@ int remap_command(const RemapCommand& cmd, const Mesh& source, const Mesh& targe
                                     ", \"least_fraction\": " + num(summary.least, "least covered fraction") +
                                     ", \"uncovered_values\": \"" + cmd.uncovered + "\"}";
   if (!cmd.output.empty())
-    write_result_file(cmd.output, target, std::move(cell_data), point_data, std::move(cell_node_data), per_simplex,
-                      cmd.ascii, cmd.threads);
+    write_result_file(cmd.output, target, std::move(output), per_simplex, cmd.ascii, cmd.threads);
   Progress::get().finish();
   // The default's flag, on stderr whether or not it is a terminal (but for --quiet).
   if (summary.uncovered > 0 && uncovered == Uncovered::flag && !cmd.quiet)
@@ -477,9 +455,7 @@ int run_remap(const RemapCommand& cmd) {
     const Uncovered uncovered = parse_uncovered(cmd.uncovered);
     if (cmd.fields.empty() == cmd.expr.empty())
       throw std::invalid_argument("tetia: give --field NAME (one or more) or --expr EXPRESSION, not both");
-    for (std::size_t i = 0; i < cmd.fields.size(); ++i)
-      for (std::size_t j = 0; j < i; ++j)
-        if (cmd.fields[i] == cmd.fields[j]) throw std::invalid_argument("tetia: --field " + cmd.fields[i] + " given twice");
+    check_distinct_fields(cmd.fields);
     if (uncovered == Uncovered::keep && cmd.fields.empty())
       throw std::invalid_argument(
           "tetia: --uncovered keep gives uncovered target values from the target file's field of the same name: "
@@ -499,28 +475,17 @@ int run_remap(const RemapCommand& cmd) {
                                     "are not linear operators"));
       check_writable(cmd.save_operator, "--save-operator");
     }
-    MeshReadOptions options;  // the fields are read with the source mesh, in one pass
+    // The fields are read with the source mesh, in one pass; for --uncovered keep the target's
+    // own values too, where the result goes.
+    MeshReadOptions options = fields_at(cmd.fields, source_location(method), cmd.step);
     options.corner_nodes = cmd.corner_nodes;
-    options.fields = cmd.fields;
-    options.fields_on_cells = source_location(method) == Location::cells;
-    options.fields_on_cell_nodes = source_location(method) == Location::cell_nodes;
-    options.step = cmd.step;
-    MeshReadOptions target_options;  // --uncovered keep: the target's own values, where the result goes
-    if (uncovered == Uncovered::keep) {
-      target_options.fields = cmd.fields;
-      target_options.fields_on_cells = target_location(method) == Location::cells;
-      target_options.fields_on_cell_nodes = target_location(method) == Location::cell_nodes;
-      target_options.step = cmd.step;
-    }
+    const MeshReadOptions target_options =
+        uncovered == Uncovered::keep ? fields_at(cmd.fields, target_location(method), cmd.step) : MeshReadOptions{};
     Loaded l = load_pair(cmd.source, cmd.target, options, target_options);
+    check_kept_components(l, cmd.source, cmd.target);
     const std::string extra = straightened_json(cmd.corner_nodes, l.straightened);
     const auto check_target = [&](const auto& target) {
       check_discontinuous_output(target, target_location(method), cmd.output);
-      for (std::size_t i = 0; i < l.target_fields.size(); ++i)
-        if (l.target_fields[i].components != l.source_fields[i].components)
-          throw std::invalid_argument("tetia: --uncovered keep: field " + cmd.fields[i] + " has " +
-                                      std::to_string(l.source_fields[i].components) + " components in " + cmd.source +
-                                      " but " + std::to_string(l.target_fields[i].components) + " in " + cmd.target);
     };
     if (const auto* s3 = std::get_if<TetMesh>(&l.source)) {
       check_target(std::get<TetMesh>(l.target));
@@ -564,9 +529,8 @@ int apply_command(const ApplyCommand& cmd, const OperatorFile& op, const Mesh& s
     }
   }
   if (op.rows == Location::cell_nodes) empty_rows /= K::dim + 1;
-  const TargetValues<Mesh> kept_value(target, op.rows);
   const bool per_simplex = op.rows == Location::cell_nodes && !target.cell_origin.empty();
-  std::vector<Field> cell_data, point_data, cell_node_data;
+  OutputFields output;
   std::string fields_json;
   for (std::size_t fi = 0; fi < fields.size(); ++fi) {
     const Field& field = fields[fi];
@@ -574,28 +538,28 @@ int apply_command(const ApplyCommand& cmd, const OperatorFile& op, const Mesh& s
     std::vector<double> out(static_cast<std::size_t>(op.weights.rows()) * nc);
     std::string integrals;
     for (std::size_t k = 0; k < nc; ++k) {
-      std::vector<double> component(field.values.size() / nc);
-      for (std::size_t i = 0; i < component.size(); ++i) component[i] = field.values[i * nc + k];
-      std::vector<double> values = apply_operator(op.weights, operator_columns(source, op.columns, component));
+      const std::vector<double> columns =
+          operator_columns(source, op.columns, component_of(field.values, field.components, k));
+      std::vector<double> values = apply_operator(op.weights, columns);
       const double integral =
           integral_at(target, op.rows == Location::cells ? spread_to_simplices(target, values) : values, op.rows);
       integrals += (k == 0 ? "" : ", ") + num(integral, "target integral");
+      std::vector<double> kept;
+      if (uncovered == Uncovered::keep) {
+        const Field& own = target_fields[fi];
+        kept = operator_columns(target, op.rows, component_of(own.values, own.components, k));
+      }
       replace_uncovered(
-          values, uncovered, [&](std::size_t i) { return empty[i] != 0; },
-          [&](std::size_t i) { return kept_value(target_fields[fi], i, k); });
+          values, uncovered, [&](std::size_t i) { return empty[i] != 0; }, [&](std::size_t i) { return kept[i]; });
       for (std::size_t i = 0; i < values.size(); ++i) out[i * nc + k] = values[i];
     }
     fields_json += std::string(fields_json.empty() ? "" : ", ") + "{\"name\": \"" + json_escape(field.name) +
                    "\", \"components\": " + std::to_string(field.components) + ", \"target_integral\": [" +
                    integrals + "]}";
-    Field result{field.name, std::move(out), field.components};
-    if (op.rows == Location::cells) cell_data.push_back(std::move(result));
-    else if (op.rows == Location::nodes) point_data.push_back(std::move(result));
-    else cell_node_data.push_back(std::move(result));
+    output.add(op.rows, {field.name, std::move(out), field.components});
   }
   if (!cmd.output.empty())
-    write_result_file(cmd.output, target, std::move(cell_data), point_data, std::move(cell_node_data), per_simplex,
-                      cmd.ascii, cmd.threads);
+    write_result_file(cmd.output, target, std::move(output), per_simplex, cmd.ascii, cmd.threads);
   Progress::get().finish();
   if (empty_rows > 0 && uncovered == Uncovered::flag && !cmd.quiet)
     std::fprintf(stderr,
@@ -619,27 +583,17 @@ int run_apply(const ApplyCommand& cmd) {
     Progress::get().configure(progress_mode(cmd.progress, cmd.quiet));
     const Uncovered uncovered = parse_uncovered(cmd.uncovered);
     if (cmd.fields.empty()) throw std::invalid_argument("tetia: apply: give --field NAME (one or more)");
-    for (std::size_t i = 0; i < cmd.fields.size(); ++i)
-      for (std::size_t j = 0; j < i; ++j)
-        if (cmd.fields[i] == cmd.fields[j]) throw std::invalid_argument("tetia: --field " + cmd.fields[i] + " given twice");
+    check_distinct_fields(cmd.fields);
     check_writable(cmd.output, "-o");
     // The operator's description first (where the fields are), the meshes and fields, then its
     // weights, whose sizes the meshes bound.
     const OperatorFile description = read_operator(cmd.op, 0, true);
-    MeshReadOptions options;
+    MeshReadOptions options = fields_at(cmd.fields, description.columns, cmd.step);
     options.corner_nodes = cmd.corner_nodes;
-    options.fields = cmd.fields;
-    options.fields_on_cells = description.columns == Location::cells;
-    options.fields_on_cell_nodes = description.columns == Location::cell_nodes;
-    options.step = cmd.step;
-    MeshReadOptions target_options;
-    if (uncovered == Uncovered::keep) {
-      target_options.fields = cmd.fields;
-      target_options.fields_on_cells = description.rows == Location::cells;
-      target_options.fields_on_cell_nodes = description.rows == Location::cell_nodes;
-      target_options.step = cmd.step;
-    }
+    const MeshReadOptions target_options =
+        uncovered == Uncovered::keep ? fields_at(cmd.fields, description.rows, cmd.step) : MeshReadOptions{};
     Loaded l = load_pair(cmd.source, cmd.target, options, target_options);
+    check_kept_components(l, cmd.source, cmd.target);
     const std::size_t most = std::visit(
         [](const auto& a, const auto& b) {
           std::size_t n = 0;

@@ -387,6 +387,15 @@ TEST_F(CliRemapMethodsTest, OperatorsThatCannotBeSavedOrApplied) {
   const Result wrong = run("apply " + w + " " + a_ + " " + b_ + " --field x");
   EXPECT_EQ(wrong.status, 2);
   EXPECT_NE(wrong.err.find("not the meshes it was saved for"), std::string::npos) << wrong.err;
+  // --uncovered keep with a target field of other components: refused, naming both files.
+  {
+    const tetia::TetMesh m = tetia::make_kuhn_mesh({3, 3, 3}, {0, 0, 0}, {1.0 / 3, 1.0 / 3, 1.0 / 3});
+    const std::string three = path("three.msh");
+    tetia::write_msh(three, m, {{"x", std::vector<double>(3 * m.num_cells(), 1.0), 3}});
+    const Result keep = run("apply " + w + " " + b_ + " " + three + " --field x --uncovered keep");
+    EXPECT_EQ(keep.status, 2);
+    EXPECT_NE(keep.err.find("has 1 components in " + b_ + " but 3 in " + three), std::string::npos) << keep.err;
+  }
   // A damaged file: the line is named.
   std::string text = tetia::testcli::read_file(w);
   text.replace(text.rfind('\n', text.size() - 2) + 1, std::string::npos, "1 1 nan\n");
