@@ -1,5 +1,6 @@
 // Unit tests of the kernel against the paper's own examples (Sections 5.1 and 5.2) and simple
 // closed forms. The exhaustive comparison with exact arithmetic is in test_kernel_vs_exact.cpp.
+#include <gmpxx.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include <random>
 #include <set>
 
+#include "../src/kernel/minor_sign.hpp"   // minor_with_exact_sign (internal)
 #include "../src/kernel/one_to_many.hpp"  // OneToMany (internal), for the bitwise contract
 #include "tetia/exact.hpp"
 #include "tetia/kernel_trace.hpp"
@@ -533,16 +535,113 @@ TEST(KernelContract, RetryWithTheOtherReference) {
   expect_contract(U, V, 1e-12, "retry");
 }
 
+TEST(KernelContract, MinorSignIsExactOnTies) {
+  // minor_with_exact_sign (src/kernel/minor_sign.hpp), the edge comparison's minor a b - c d:
+  // its sign against GMP where the two products round to one double (c d made from a b by a
+  // nudge of c and d that keeps fl(c d) == fl(a b)), and where they do not.
+  std::mt19937_64 rng(51);
+  std::uniform_real_distribution<double> mantissa(0.5, 1.0);
+  std::uniform_int_distribution<int> exponent(-300, 300), ulps(-3, 3);
+  int ties = 0, wrong_before = 0;
+  for (int n = 0; n < 200000; ++n) {
+    const double a = std::ldexp(mantissa(rng), exponent(rng) / 2), b = std::ldexp(mantissa(rng), exponent(rng) / 2);
+    double c = std::ldexp(mantissa(rng), exponent(rng) / 2);
+    double d = (a * b) / c;
+    for (int m = ulps(rng); m != 0; m += m > 0 ? -1 : 1) d = std::nextafter(d, m > 0 ? INFINITY : 0.0);
+    for (int m = ulps(rng); m != 0; m += m > 0 ? -1 : 1) c = std::nextafter(c, m > 0 ? INFINITY : 0.0);
+    const double signs[2] = {1.0, -1.0};
+    const double sa = signs[n & 1], sc = signs[(n >> 1) & 1];
+    const double A = sa * a, B = sa * b, Cc = sc * c, D = sc * d;  // same sign of the products
+    const int exact = sgn(mpq_class(A) * mpq_class(B) - mpq_class(Cc) * mpq_class(D));
+    const double m = detail::minor_with_exact_sign(A, B, Cc, D);
+    ASSERT_EQ((m > 0) - (m < 0), exact) << A << " " << B << " " << Cc << " " << D;
+    const double plain = A * B - Cc * D;
+    if (A * B == Cc * D) {
+      ++ties;
+      wrong_before += exact != 0;
+    } else {
+      ASSERT_EQ((plain > 0) - (plain < 0), exact);  // the premise: an untied minor has its exact sign
+    }
+  }
+  EXPECT_GT(ties, 10000);
+  EXPECT_GT(wrong_before, 5000);  // ties whose plain minor, 0, had the wrong sign
+  EXPECT_EQ(detail::minor_with_exact_sign(0.0, 1.5, 2.0, 0.0), 0.0);
+}
+
+TEST(KernelContract, TwistedCrossSectionsAreRepaired) {
+  // Fig. 6 (the non-convex case of the proof of Theorem 6): a line P_a ∩ P_b of Y meeting four
+  // faces of X, from b-signs that alternate around the quadrilateral X ∩ P_a. That needs every
+  // minor a_u b_v - a_v b_u of its vertices to be 0 or of the wrong sign, so rounding ties
+  // (docs/architecture.md, step 8). This family makes them: X's four (a, b) projections on one
+  // line through the origin, two on each side, to within a few ulps; the other coordinates
+  // random. Run on the kernel directly (trace_kernel, C as given). The plain minors twist 49 of
+  // these 10^6 (counted as nonconvex_lines); the repair (src/kernel/nonconvex_repair.hpp) decides
+  // the signs again with exact minors, after which none may be twisted (an inconsistency), and
+  // the polytope must close with a volume within X's own (X is flat to a few ulps).
+  std::mt19937_64 rng(2026);
+  std::uniform_real_distribution<double> length(0.05, 1.5), any(-1.5, 1.5), angle(0.0, 2 * std::numbers::pi);
+  std::uniform_int_distribution<int> ulps(-3, 3), column(0, 3);
+  IntersectionStats total;
+  int repaired = 0;
+  for (int n = 0; n < 1000000; ++n) {
+    const int a = column(rng);
+    int b = column(rng);
+    while (b == a) b = column(rng);
+    int c = 0;
+    while (c == a || c == b) ++c;
+    const int d = 6 - a - b - c;
+    const double t = angle(rng), ca = std::cos(t), sa = std::sin(t);
+    double C[4][4];
+    for (int v = 0; v < 4; ++v) {
+      const double lambda = (v < 2 ? 1.0 : -1.0) * length(rng);
+      C[v][a] = lambda * ca;
+      C[v][b] = lambda * sa;
+      for (int m = ulps(rng); m != 0; m += m > 0 ? -1 : 1) C[v][b] = std::nextafter(C[v][b], m > 0 ? 10.0 : -10.0);
+      for (int m = ulps(rng); m != 0; m += m > 0 ? -1 : 1) C[v][a] = std::nextafter(C[v][a], m > 0 ? 10.0 : -10.0);
+      C[v][c] = any(rng);
+      C[v][d] = 1.0 - C[v][a] - C[v][b] - C[v][c];
+    }
+    IntersectionStats st;
+    detail::KernelTrace trace;
+    detail::trace_kernel(C, trace, &st);
+    total += st;
+    if (st.nonconvex_lines == 0) continue;
+    ++repaired;
+    EXPECT_TRUE(trace.consistent) << "pair " << n;
+    EXPECT_TRUE(trace.num_corners == 0 || trace.num_facets >= 4) << "pair " << n;
+    // X's volume in the reference frame, |det C| / 6 (rows summing to 1 up to rounding).
+    mpq_class m[4][4];
+    for (int i = 0; i < 4; ++i)
+      for (int k = 0; k < 4; ++k) m[i][k] = C[i][k];
+    mpq_class det = 1;
+    for (int k = 0; k < 4; ++k) {
+      int pivot = k;
+      while (pivot < 4 && m[pivot][k] == 0) ++pivot;
+      if (pivot == 4) {
+        det = 0;
+        break;
+      }
+      if (pivot != k) {
+        for (int q = 0; q < 4; ++q) std::swap(m[k][q], m[pivot][q]);
+        det = -det;
+      }
+      det *= m[k][k];
+      for (int i = k + 1; i < 4; ++i) {
+        const mpq_class f = m[i][k] / m[k][k];
+        for (int q = k; q < 4; ++q) m[i][q] -= f * m[k][q];
+      }
+    }
+    EXPECT_LE(trace.volume, std::abs(det.get_d()) / 6 + 1e-15) << "pair " << n;
+  }
+  EXPECT_EQ(repaired, 49);
+  EXPECT_EQ(total.inconsistencies, 0);
+}
+
 TEST(KernelContract, NearTiesDoNotTwistACrossSection) {
-  // The non-convex configuration of the proof of Theorem 6 (Fig. 6: a line of Y meeting four
-  // faces of X) needs a cross-section X ∩ P_a whose vertices' b-signs alternate. Each of those
-  // signs is the sign of a 2x2 minor a_x b_y - a_y b_x of the vertices' coordinates, and the
-  // computed minor has the exact sign or is 0 (rounding is monotone, and coordinates are snapped
-  // away from underflow), so only a minor that rounds to a tie can be wrong. This family makes
-  // such ties on purpose: the reference tetrahedron as V (its coordinates are the input's), and
-  // one to three pairs of U's vertices whose (a, b) projections are parallel through the origin
-  // to within a few ulps. None may twist a cross-section (docs/architecture.md, step 8), and each
-  // pair keeps the contract.
+  // The same configuration (Fig. 6) through the whole pipeline: the reference tetrahedron as V
+  // (its coordinates are the input's), and one to three pairs of U's vertices whose (a, b)
+  // projections are parallel through the origin to within a few ulps. None may twist a
+  // cross-section, and each pair keeps the contract.
   std::mt19937_64 rng(2026);
   std::uniform_real_distribution<double> coordinate(-1.5, 1.5);
   std::uniform_int_distribution<int> ulps(-4, 4), plane(0, 2), octave(-10, 0);

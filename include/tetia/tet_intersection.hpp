@@ -52,11 +52,12 @@ struct IntersectionStats {
   std::int64_t face_inherited = 0;      ///< from either parent pair
   std::int64_t face_paired = 0;         ///< Corollary 1
   std::int64_t face_computed = 0;       ///< eq. (5), direct
-  std::int64_t nonconvex_lines = 0;     ///< lines of Y meeting the boundary of X in four points
-                                        ///< (Fig. 6, the non-convex case of Theorem 6's proof):
-                                        ///< detected, not repaired by the paper's rule; the
-                                        ///< labels then do not close and the other reference or
-                                        ///< the exact last resort decides (see solve_with)
+  std::int64_t nonconvex_lines = 0;     ///< lines of Y that four faces of X meet, seen from
+                                        ///< either of the line's planes (Fig. 6, the non-convex
+                                        ///< case of Theorem 6's proof), from edge signs that
+                                        ///< rounding ties twisted; each such pair's edge signs
+                                        ///< are decided again with exact minors, which cannot
+                                        ///< twist (docs/architecture.md, step 8)
   // Coordinates actually evaluated for corners that lie on Y (eq. 2 / eq. 5), and clamps.
   std::int64_t corner_coordinates = 0;
   std::int64_t guardrail_clamps = 0;    ///< Section 4.1.1

@@ -15,6 +15,7 @@
 // this one makes the same code as the members defined in the class.
 #include "edge_signs.hpp"
 #include "face_signs.hpp"
+#include "nonconvex_repair.hpp"
 #include "corner_coordinates.hpp"
 
 namespace tetia::detail {
@@ -47,8 +48,14 @@ bool Kernel<kWeights, kStats>::run_steps(KernelResult& out, CornerList& cl) {
     }
   if ((sm_[0] & sm_[1] & sm_[2] & sm_[3]) == 0xF) return true;  // X inside Y
 
-  // Lines 7-17: edges of X against planes of Y; corners where all signs are 1.
+  // Lines 7-17: edges of X against planes of Y; corners where all signs are 1. A line of Y
+  // meets the boundary of X in zero or two points while every X ∩ P_a is convex in its signs;
+  // four would mean rounding twisted a quadrilateral (Fig. 6), which untwist repairs
+  // (nonconvex_repair.hpp).
   for (int e = 0; e < 6; ++e) order_edge(e);
+  build_segments();
+  if (const unsigned views = twisted_views()) [[unlikely]]
+    untwist(views);
   for (std::uint32_t rest = edge_corners_; rest; rest &= rest - 1) {
     const int bitpos = std::countr_zero(rest);
     const int e = bitpos >> 2, p = bitpos & 3;
@@ -58,30 +65,8 @@ bool Kernel<kWeights, kStats>::run_steps(KernelResult& out, CornerList& cl) {
     edge_corner_coords(e, p, rc);
   }
 
-  // Line 18: faces of X against lines of Y.
-  build_segments();
+  // Line 18: faces of X against lines of Y (the segments f ∩ P_a are built above).
   face_line_flags();
-  // A line of Y meets the boundary of X in zero or two points while every X ∩ P_p is convex.
-  // Four would mean rounding twisted a quadrilateral (Fig. 6), which the proof of Theorem 6
-  // repairs by keeping the extreme two. Here each X ∩ P_p inherits its vertices' signs from
-  // totally ordered crossings along the edges, which keeps it convex in the sign sense; the
-  // case is detected with statistics (nonconvex_lines, an inconsistency) but not repaired by
-  // the paper's rule: four face corners on one line do not close into a simple polytope, so the
-  // facets fail, and solve_with retries with the other reference and, failing that, takes the
-  // exact last resort. No input is known to reach it since the map snaps coordinates below
-  // 2^-340 to zero (the adversarial subnormal nudges that did): a computed 2x2 minor then has
-  // the exact sign or is a tie (docs/architecture.md, step 8, has the argument), and the test
-  // KernelContract.NearTiesDoNotTwistACrossSection makes ties on purpose.
-  if (stats()) {
-    for (int L = 0; L < 6; ++L) {
-      int count = 0;
-      for (int f = 0; f < 4; ++f) count += bit(fexist_[f], L);
-      if (count != 0 && count != 2) {
-        ++stats()->nonconvex_lines;
-        note_inconsistency();
-      }
-    }
-  }
   unsigned faces = 0;  // the faces of X that meet a line of Y
   for (int f = 0; f < 4; ++f) faces |= unsigned(fexist_[f] != 0) << f;
   for (; faces; faces &= faces - 1) {

@@ -10,6 +10,7 @@
 #include <cstdint>
 
 #include "kernel.hpp"
+#include "minor_sign.hpp"
 
 namespace tetia::detail {
 
@@ -21,10 +22,14 @@ namespace {
 // x-coordinate of the crossing with P_y, eq. (2): it still has x_i's sign iff P_x comes later.
 // Only the signs of the numerator and of the denominator are needed; the numerator of
 // y_x^{ij} is exactly the negative of this one in floating point, so the pairing of Lemma 2
-// holds for computed values too.
+// holds for computed values too. With exact_minors_ (the repair of a twisted cross-section,
+// untwist) the numerator's sign is the exact sign of the minor of the computed C
+// (minor_sign.hpp: where the products round to one nonzero double, their rounding errors
+// decide); signs decided so cannot twist a cross-section (docs/architecture.md, step 8).
 template <bool kWeights, bool kStats>
 inline bool Kernel<kWeights, kStats>::crosses_before(int i, int j, int y, int x) const {
-  const double num = C_[j][x] * C_[i][y] - C_[i][x] * C_[j][y];
+  const double num = exact_minors_ ? minor_with_exact_sign(C_[j][x], C_[i][y], C_[i][x], C_[j][y])
+                                   : C_[j][x] * C_[i][y] - C_[i][x] * C_[j][y];
   const bool den_positive = bit(sm_[i], y);  // y_i >= 0 > y_j, so y_i - y_j > 0
   const bool sign_x = num == 0.0 || ((num > 0.0) == den_positive);
   return sign_x == bit(sm_[i], x);
@@ -45,6 +50,12 @@ inline void Kernel<kWeights, kStats>::order_edge(int e) {
   const unsigned crossed = unsigned(sm_[i] ^ sm_[j]);
   cross_[e] = static_cast<u8>(crossed);
   if (!stats() && order_edge_by_pairs(e, i, j, crossed)) return;
+  order_edge_sorted(e, i, j, crossed);
+}
+
+// order_edge by insertion sort, each comparison by crosses_before.
+template <bool kWeights, bool kStats>
+inline void Kernel<kWeights, kStats>::order_edge_sorted(int e, int i, int j, unsigned crossed) {
   if (!crossed) return;
   int sorted[4], n = 0, comparisons = 0;
   for (unsigned rest = crossed; rest; rest &= rest - 1) {

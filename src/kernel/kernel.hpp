@@ -7,6 +7,8 @@
 //                           X in Y) and Section 3.4 (lines 19-23, vertices of Y in X)
 //   edge_signs.hpp          Section 3.2, lines 7-17: edges of X against the planes of Y
 //   face_signs.hpp          Section 3.3, line 18: faces of X against the lines of Y
+//   nonconvex_repair.hpp    Fig. 6 (the non-convex case of Theorem 6's proof): a twisted
+//                           cross-section, its edge signs decided again with exact minors
 //   corner_coordinates.hpp  the corners' coordinates: eqs. (2), (4), (5), and the guardrail of
 //                           Section 4.1.1
 // Part of the kernel's one translation unit: included by src/kernel/tet_intersection.cpp only
@@ -93,6 +95,9 @@ class Kernel {
   bool crosses_before(int i, int j, int y, int x) const;
   void order_edge(int e);
   bool order_edge_by_pairs(int e, int i, int j, unsigned crossed);
+  void order_edge_sorted(int e, int i, int j, unsigned crossed);
+  unsigned twisted_views() const;  // nonconvex_repair.hpp: Fig. 6
+  void untwist(unsigned views);
 
   // --- Section 3.3: faces of X against the lines of Y (face_signs.hpp) ---------------------
   void build_segments();
@@ -141,6 +146,7 @@ class Kernel {
   std::uint32_t undecided_[4];   // coordinates of face f ∩ line L not inherited, nibble L
   u8 fsign(int f, int L) const { return static_cast<u8>((fsign_[f] >> (4 * L)) & 0xFu); }
   bool consistent_ = true;
+  bool exact_minors_ = false;  // crosses_before decides by the exact sign of its minor (untwist)
   IntersectionStats* stats_;  // only read through stats()
   IntersectionStats* stats() const {
     if constexpr (kStats) return stats_;

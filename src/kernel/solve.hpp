@@ -1,6 +1,6 @@
 // src/kernel/solve.hpp -- one pair from start to end: the quick exits (disjoint bounding boxes,
 // lines 2-6's empty cases), the frame (frame.hpp), the kernel (Kernel::run, algorithm2.hpp),
-// the facets (facets.hpp), the one repair (the other tetrahedron as the reference), the tests
+// the facets (facets.hpp), the repair by the other tetrahedron as the reference, the tests
 // that certify the result, and the rescaling of extreme sizes; what is not certified goes to
 // the exact last resort (the entry points, tet_intersection.cpp).
 // Part of the kernel's one translation unit: included by src/kernel/tet_intersection.cpp only
@@ -194,10 +194,10 @@ enum class Outcome {
   rescale,  // sizes outside the kernel's range (FrameStatus::rescale): scale and solve again
 };
 
-// The kernel with its one repair and the tests that certify its result. Rounding in a
-// degenerate configuration (an edge of one tetrahedron lying in a face of the other, say) can
-// leave sign decisions that Theorem 6's relations accept but that no polytope realizes; the
-// labels then do not close up. The other tetrahedron is then taken as the reference, which
+// The kernel with its repair by the other reference and the tests that certify its result.
+// Rounding in a degenerate configuration (an edge of one tetrahedron lying in a face of the
+// other, say) can leave sign decisions that Theorem 6's relations accept but that no polytope
+// realizes; the labels then do not close up. The other tetrahedron is then taken as the reference, which
 // rounds differently. If that fails too, the exact last resort decides: a real intersection
 // never vanishes. It also decides where the frame cannot be made in doubles for finite input
 // (a flat frame, or coordinates that are not finite), where a tetrahedron is flat to the

@@ -30,6 +30,9 @@
 //   algorithm2.hpp          run_steps: the steps in order; Sections 3.1 and 3.4
 //   edge_signs.hpp          Section 3.2, lines 7-17: edges of X against planes of Y
 //   face_signs.hpp          Section 3.3, line 18: faces of X against lines of Y
+//   nonconvex_repair.hpp    the non-convex case of Theorem 6's proof (Fig. 6): a twisted
+//                           cross-section, its edge signs decided again with exact minors
+//   minor_sign.hpp          the exact sign of a 2x2 minor where its products tie
 //   corner_coordinates.hpp  eqs. (2), (4), (5) and the guardrail of Section 4.1.1
 //   facets.hpp              the facets from the corners' labels
 //   orientation.hpp         the facets oriented outward
@@ -46,7 +49,8 @@
 //   exact_fallback.hpp      the exact last resort (GMP; implemented in src/exact.cpp)
 //   refined_clip.hpp        results the kernel's estimate does not certify to 1e-12 of the
 //                           smaller tetrahedron, recomputed in that tetrahedron's frame (3D)
-//   exact_sign.hpp          exact orient2d signs and values in double arithmetic (2D)
+//   exact_sign.hpp          exact orient2d signs and values in double arithmetic (2D), and
+//                           the error-free products minor_sign.hpp uses
 #include "tetia/tet_intersection.hpp"
 
 #include <algorithm>
