@@ -391,14 +391,14 @@ struct DoubleDouble {
   double value() const { return hi + lo; }
 };
 
-// To a few ulps where exact_sign.hpp's expansion applies (differences below 2^496, and a
-// determinant above 2^-900 where products of the differences' parts underflow: always, for
-// rescaled input), else the double-double evaluation below, whose error is about eps^2 times
-// the permanent (not enough for the most extreme needles alone).
+// Correctly rounded where exact_sign.hpp's orient2d_nearest applies (differences below 2^496,
+// and a determinant above 2^-900 where products of the differences' parts underflow: always,
+// for rescaled input), else the double-double evaluation below, whose error is about eps^2
+// times the permanent (not enough for the most extreme needles alone).
 double orient2d_dd(Vec2 a, Vec2 b, Vec2 c);
 double orient2d_accurate(Vec2 a, Vec2 b, Vec2 c) {
   double v;
-  if (detail::orient2d_rounded(a.x, a.y, b.x, b.y, c.x, c.y, v)) return v;
+  if (detail::orient2d_nearest(a.x, a.y, b.x, b.y, c.x, c.y, v)) return v;
   return orient2d_dd(a, b, c);
 }
 double orient2d_dd(Vec2 a, Vec2 b, Vec2 c) {
