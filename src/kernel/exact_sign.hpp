@@ -65,6 +65,16 @@ inline int grow(double* e, int n, double x) {
   return k;
 }
 
+// The differences of orient2d's determinant det[b - a, c - a] exactly, as h + l (two_diff):
+// bx - ax, cy - ay, by - ay, cx - ax, so that det = (h0 + l0)(h1 + l1) - (h2 + l2)(h3 + l3).
+inline void exact_differences(double ax, double ay, double bx, double by, double cx, double cy, double (&h)[4],
+                              double (&l)[4]) {
+  two_diff(bx, ax, h[0], l[0]);
+  two_diff(cy, ay, h[1], l[1]);
+  two_diff(by, ay, h[2], l[2]);
+  two_diff(cx, ax, h[3], l[3]);
+}
+
 }  // namespace exact_sign_impl
 
 // The expansion of det[b - a, c - a] (up to 32 components, increasing magnitude); returns its
@@ -75,11 +85,8 @@ inline int grow(double* e, int n, double x) {
 inline int orient2d_expansion(double ax, double ay, double bx, double by, double cx, double cy, double (&e)[32],
                               bool& tiny) {
   using namespace exact_sign_impl;
-  double h[4], l[4];  // exact differences: bx - ax, cy - ay, by - ay, cx - ax
-  two_diff(bx, ax, h[0], l[0]);
-  two_diff(cy, ay, h[1], l[1]);
-  two_diff(by, ay, h[2], l[2]);
-  two_diff(cx, ax, h[3], l[3]);
+  double h[4], l[4];
+  exact_differences(ax, ay, bx, by, cx, cy, h, l);
   for (int k = 0; k < 4; ++k)
     if (!(std::abs(h[k]) < 0x1p496)) return -1;  // overflow ahead (or not finite)
   // det = (h0 + l0)(h1 + l1) - (h2 + l2)(h3 + l3): eight exact products of two doubles each.
@@ -184,11 +191,8 @@ inline bool rounds_to(double v, double w, double bound) {
 // their error terms exactly; outside, stage 3.
 inline bool orient2d_nearest(double ax, double ay, double bx, double by, double cx, double cy, double& value) {
   using namespace exact_sign_impl;
-  double h[4], l[4];  // exact differences: bx - ax, cy - ay, by - ay, cx - ax
-  two_diff(bx, ax, h[0], l[0]);
-  two_diff(cy, ay, h[1], l[1]);
-  two_diff(by, ay, h[2], l[2]);
-  two_diff(cx, ax, h[3], l[3]);
+  double h[4], l[4];
+  exact_differences(ax, ay, bx, by, cx, cy, h, l);
   bool in_range = true;
   for (int k = 0; k < 4; ++k) in_range &= h[k] == 0.0 || (std::abs(h[k]) >= 0x1p-480 && std::abs(h[k]) < 0x1p480);
   if (in_range) {
