@@ -25,6 +25,7 @@
 #include <cstring>
 #include <cstdlib>
 #include <limits>
+#include <new>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -309,19 +310,27 @@ class VtuArrays {
     header[1] = kBlock;
     header[2] = bytes % kBlock;
     std::vector<std::vector<unsigned char>> out(blocks);
-    bool failed = false;
+    bool failed = false, out_of_memory = false;
     const auto nblocks = static_cast<std::int64_t>(blocks);
     const int threads = threads_ > 0 ? threads_ : omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 4) num_threads(threads) reduction(|| : failed)
+    // A block's buffer that cannot be allocated is noted, not thrown: an exception must not
+    // leave the OpenMP region (it would terminate the process).
+#pragma omp parallel for schedule(dynamic, 4) num_threads(threads) reduction(|| : failed, out_of_memory)
     for (std::int64_t k = 0; k < nblocks; ++k) {
       const auto kk = static_cast<std::size_t>(k);
       const std::size_t n = std::min(kBlock, bytes - kk * kBlock);
-      out[kk].resize(compressBound(static_cast<uLong>(n)));
+      try {
+        out[kk].resize(compressBound(static_cast<uLong>(n)));
+      } catch (const std::bad_alloc&) {
+        out_of_memory = true;
+        continue;
+      }
       uLongf got = static_cast<uLongf>(out[kk].size());
       // Level 1: about as small as the default on these arrays, several times faster.
       failed = failed || compress2(out[kk].data(), &got, data + kk * kBlock, static_cast<uLong>(n), 1) != Z_OK;
       out[kk].resize(got);
     }
+    if (out_of_memory) throw std::bad_alloc();
     if (failed) throw std::runtime_error("tetia: zlib compression failed");
     for (std::size_t k = 0; k < blocks; ++k) header[3 + k] = out[k].size();
     appended_.append(reinterpret_cast<const char*>(header.data()), header.size() * sizeof(std::uint64_t));

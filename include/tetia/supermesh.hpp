@@ -18,8 +18,10 @@
 // plain R-tree search; both give the same pieces provided the target cells do not overlap one
 // another, as in any mesh (the front walks the target's facet adjacency: several overlapping
 // meshes given as one target are searched completely only by the R-tree). Results are
-// identical for any number of threads. Both dimensions run the same code (src/supermesh.cpp, a
-// template over the dimension) with their own kernel.
+// identical for any number of threads. Out of memory while the threads work (the pieces, and
+// what is kept with them, grow as they are found) is std::bad_alloc from supermesh(), as
+// elsewhere, not the end of the process. Both dimensions run the same code
+// (src/supermesh/supermesh.cpp, a template over the dimension) with their own kernel.
 #pragma once
 
 #include <array>

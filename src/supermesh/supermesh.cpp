@@ -100,6 +100,7 @@
 #include <cmath>
 #include <cstdint>
 #include <exception>
+#include <new>
 #include <iterator>
 #include <limits>
 #include <memory>
@@ -897,23 +898,39 @@ typename detail::Dim<Mesh>::Result build(
   }
   const auto nchunks_i = static_cast<std::int64_t>(nchunks);
   std::vector<std::unique_ptr<Worker<Mesh>>> workers(static_cast<std::size_t>(threads));
+  // An exception must not leave an OpenMP region (it would terminate the process): what a
+  // thread throws (std::bad_alloc as its pieces grow, the progress callback's) is kept, the
+  // thread computes nothing more, and the first is rethrown after the region.
+  std::vector<std::exception_ptr> thread_errors(static_cast<std::size_t>(threads));
   std::atomic<std::size_t> done{0};  // source cells finished, for options.progress
 #pragma omp parallel num_threads(threads)
   {
     const int id = omp_get_thread_num();
     auto& w = workers[static_cast<std::size_t>(id)];
-    w = std::make_unique<Worker<Mesh>>(sh);
+    std::exception_ptr& error = thread_errors[static_cast<std::size_t>(id)];
+    try {
+      w = std::make_unique<Worker<Mesh>>(sh);
+    } catch (...) {
+      error = std::current_exception();
+    }
 #pragma omp for schedule(dynamic, 1)
     for (std::int64_t c = 0; c < nchunks_i; ++c) {
-      const Chunk& ch = chunks[static_cast<std::size_t>(c)];
-      w->run_chunk(chunks[static_cast<std::size_t>(c)], id, options.search);
-      if (options.progress) {
-        const std::size_t now = done.fetch_add(static_cast<std::size_t>(ch.end - ch.begin)) +
-                                static_cast<std::size_t>(ch.end - ch.begin);
-        if (id == 0) options.progress(now, ns);  // the caller's thread only: never concurrent
+      if (error) continue;  // every chunk is still taken by some thread; none of this one's runs
+      try {
+        const Chunk& ch = chunks[static_cast<std::size_t>(c)];
+        w->run_chunk(chunks[static_cast<std::size_t>(c)], id, options.search);
+        if (options.progress) {
+          const std::size_t now = done.fetch_add(static_cast<std::size_t>(ch.end - ch.begin)) +
+                                  static_cast<std::size_t>(ch.end - ch.begin);
+          if (id == 0) options.progress(now, ns);  // the caller's thread only: never concurrent
+        }
+      } catch (...) {
+        error = std::current_exception();
       }
     }
   }
+  for (const auto& e : thread_errors)
+    if (e) std::rethrow_exception(e);
   for (const auto& w : workers)  // the first thread's whose consumer failed, once every thread is done
     if (w && w->error()) std::rethrow_exception(w->error());
   if (options.progress) options.progress(ns, ns);
