@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <new>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -305,7 +306,12 @@ int guarded(Body&& body) {
     Progress::get().finish();
     std::fprintf(stderr, "%s\n", e.what());
     return exit_bad_input;
+  } catch (const std::bad_alloc&) {
+    Progress::get().finish();
+    std::fprintf(stderr, "tetia: out of memory\n");
+    return exit_failure;
   } catch (const std::exception& e) {
+    Progress::get().finish();
     std::fprintf(stderr, "tetia: %s\n", e.what());
     return exit_failure;
   }
