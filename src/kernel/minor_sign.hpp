@@ -13,9 +13,10 @@
 // returns a double with the exact sign of a b - c d (0 only where it is exactly 0), provided
 // |a|, |b|, |c|, |d| < 2^996 (Dekker's split cannot overflow) and |a b|, |c d| >= 2^-968 (the
 // products' rounding errors are representable). The kernel's coordinates satisfy both: nonzero
-// ones lie in [2^-340, 2^340] (barycentric_map.hpp snaps smaller ones to 0; larger sizes are
-// rescaled, solve.hpp). No fused multiply-add is assumed (the kernels build with
-// -ffp-contract=off).
+// ones are at least 2^-340 (barycentric_map.hpp snaps smaller ones to 0), and they stay far
+// below 2^996 (sizes are rescaled into [2^-250, 2^250], solve.hpp; coordinates are ratios of
+// such sizes over the reference's quality). No fused multiply-add is assumed (the kernels build
+// with -ffp-contract=off).
 #pragma once
 
 #include "exact_sign.hpp"  // exact_sign_impl::two_product (Dekker)
