@@ -100,10 +100,10 @@
 #include <cmath>
 #include <cstdint>
 #include <exception>
-#include <new>
 #include <iterator>
 #include <limits>
 #include <memory>
+#include <new>
 #include <optional>
 #include <stdexcept>
 #include <type_traits>
