@@ -10,11 +10,13 @@
 #include <random>
 
 #include "../src/kernel/exact_sign.hpp"
+#include "support/generators.hpp"  // nudge
 
 namespace {
 
 using tetia::detail::orient2d_nearest;
 using tetia::detail::orient2d_sign;
+using tetia::testgen::nudge;
 
 mpq_class exact_orient(double ax, double ay, double bx, double by, double cx, double cy) {
   const mpq_class Ax(ax), Ay(ay), Bx(bx), By(by), Cx(cx), Cy(cy);
@@ -47,12 +49,6 @@ void check(double ax, double ay, double bx, double by, double cx, double cy, Cou
       << std::hexfloat << v << " != " << want << " for " << ax << " " << ay << " " << bx << " " << by << " " << cx << " " << cy;
   ++counts.checked;
   counts.exact_zero += s == 0;
-}
-
-double nudge(double v, int ulps) {
-  for (; ulps > 0; --ulps) v = std::nextafter(v, INFINITY);
-  for (; ulps < 0; ++ulps) v = std::nextafter(v, -INFINITY);
-  return v;
 }
 
 TEST(ExactSign, RandomAndNearCollinear) {

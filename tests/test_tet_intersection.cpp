@@ -23,6 +23,7 @@
 // Counts heap allocations (operator new replaced in this test program), to check that the
 // kernel allocates nothing.
 #include "support/count_allocations.hpp"
+#include "support/generators.hpp"  // testgen::nudge
 using tetia::testsupport::allocations;
 
 namespace {
@@ -547,8 +548,8 @@ TEST(KernelContract, MinorSignIsExactOnTies) {
     const double a = std::ldexp(mantissa(rng), exponent(rng) / 2), b = std::ldexp(mantissa(rng), exponent(rng) / 2);
     double c = std::ldexp(mantissa(rng), exponent(rng) / 2);
     double d = (a * b) / c;
-    for (int m = ulps(rng); m != 0; m += m > 0 ? -1 : 1) d = std::nextafter(d, m > 0 ? INFINITY : 0.0);
-    for (int m = ulps(rng); m != 0; m += m > 0 ? -1 : 1) c = std::nextafter(c, m > 0 ? INFINITY : 0.0);
+    d = testgen::nudge(d, ulps(rng));  // d and c stay positive: a few ulps from positive normal values
+    c = testgen::nudge(c, ulps(rng));
     const double signs[2] = {1.0, -1.0};
     const double sa = signs[n & 1], sc = signs[(n >> 1) & 1];
     const double A = sa * a, B = sa * b, Cc = sc * c, D = sc * d;  // same sign of the products
@@ -596,8 +597,8 @@ TEST(KernelContract, TwistedCrossSectionsAreRepaired) {
       const double lambda = (v < 2 ? 1.0 : -1.0) * length(rng);
       C[v][a] = lambda * ca;
       C[v][b] = lambda * sa;
-      for (int m = ulps(rng); m != 0; m += m > 0 ? -1 : 1) C[v][b] = std::nextafter(C[v][b], m > 0 ? 10.0 : -10.0);
-      for (int m = ulps(rng); m != 0; m += m > 0 ? -1 : 1) C[v][a] = std::nextafter(C[v][a], m > 0 ? 10.0 : -10.0);
+      C[v][b] = testgen::nudge(C[v][b], ulps(rng));
+      C[v][a] = testgen::nudge(C[v][a], ulps(rng));
       C[v][c] = any(rng);
       C[v][d] = 1.0 - C[v][a] - C[v][b] - C[v][c];
     }
@@ -657,7 +658,7 @@ TEST(KernelContract, NearTiesDoNotTwistACrossSection) {
       const double lambda = coordinate(rng) * std::ldexp(1.0, octave(rng));
       U[t][a] = lambda * U[s][a];
       U[t][b] = std::nextafter(lambda * U[s][b], 0.0);
-      for (int m = ulps(rng); m != 0; m += m > 0 ? -1 : 1) U[t][b] = std::nextafter(U[t][b], m > 0 ? 10.0 : -10.0);
+      U[t][b] = testgen::nudge(U[t][b], ulps(rng));
     }
     // Stretched or squashed across the tied planes, so that either tetrahedron is the reference.
     for (auto& p : U) p[other] *= (n & 2) ? 4.0 : 0.3;
