@@ -101,63 +101,80 @@ void finalize_mesh(Mesh& m, const std::string& name) {
     measures[c] = std::abs(sv);
   }
   // Facet adjacency in linear time, without hashing: every facet (its nodes sorted) goes to the
-  // bucket of its smallest node (a counting sort over the nodes); within a bucket, a few facets
-  // long, equal facets become neighbours once sorted by their other nodes and their order in
-  // the mesh. The first two occurrences of a facet are linked, a third is an error (reported at
-  // the cell of the third, in cell order). About 20 bytes per facet, no allocation per facet.
+  // bucket of its smallest node (a counting sort over the nodes), carrying its other one or two
+  // nodes packed into 64 bits (node indices are non-negative int32) and its index, so that a
+  // bucket is read from contiguous memory; within a bucket, a few facets long, equal facets
+  // become neighbours once sorted by their other nodes (stably: the index order of the fill is
+  // kept). The first two occurrences of a facet are linked, a third is an error (reported at the
+  // cell of the third, in cell order). The keys are formed twice (to count, then to fill) rather
+  // than stored: three compare-exchanges cost less than 12 B a facet written and read again.
   constexpr std::size_t nf = nv;  // facets per cell
   using Key = std::array<std::int32_t, nv - 1>;
+  const auto facet_key = [](const auto& v, std::size_t k) {
+    Key key;
+    std::size_t j = 0;
+    for (std::size_t q = 0; q < nv; ++q)
+      if (q != k) key[j++] = v[q];
+    // Two or three nodes: sorted by compare-exchanges (std::sort's calls cost more than this).
+    const auto order = [&](std::size_t a, std::size_t b) {
+      if (key[b] < key[a]) std::swap(key[a], key[b]);
+    };
+    order(0, 1);
+    if constexpr (nv - 1 == 3) {
+      order(1, 2);
+      order(0, 1);
+    }
+    return key;
+  };
+  const auto others_of = [](const Key& key) {
+    std::uint64_t packed = static_cast<std::uint32_t>(key[1]);
+    if constexpr (nv - 1 == 3) packed = packed << 32 | static_cast<std::uint32_t>(key[2]);
+    return packed;
+  };
   std::array<std::int32_t, nv> none;
   none.fill(-1);
   m.neighbors.assign(m.cells.size(), none);
   const std::size_t facets = m.cells.size() * nf;
-  std::vector<Key> keys(facets);
   std::vector<std::size_t> start(m.nodes.size() + 1, 0);
-  for (std::size_t c = 0; c < m.cells.size(); ++c) {
-    const auto& v = m.cells[c];
-    for (std::size_t k = 0; k < nf; ++k) {
-      Key& key = keys[c * nf + k];
-      std::size_t j = 0;
-      for (std::size_t q = 0; q < nv; ++q)
-        if (q != k) key[j++] = v[q];
-      // Two or three nodes: sorted by compare-exchanges (std::sort's calls cost more than this).
-      const auto order = [&](std::size_t a, std::size_t b) {
-        if (key[b] < key[a]) std::swap(key[a], key[b]);
-      };
-      order(0, 1);
-      if constexpr (nv - 1 == 3) {
-        order(1, 2);
-        order(0, 1);
-      }
-      ++start[static_cast<std::size_t>(key[0]) + 1];
-    }
-  }
+  for (std::size_t c = 0; c < m.cells.size(); ++c)
+    for (std::size_t k = 0; k < nf; ++k) ++start[static_cast<std::size_t>(facet_key(m.cells[c], k)[0]) + 1];
   for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
-  std::vector<std::size_t> bucket(facets);
+  struct Entry {
+    std::uint64_t others;  // the facet's other nodes, packed
+    std::size_t facet;     // cell * nf + k
+  };
+  std::vector<Entry> bucket(facets);
   {
     std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t f = 0; f < facets; ++f) bucket[fill[static_cast<std::size_t>(keys[f][0])]++] = f;  // f ascending
+    for (std::size_t c = 0; c < m.cells.size(); ++c)
+      for (std::size_t k = 0; k < nf; ++k) {
+        const Key key = facet_key(m.cells[c], k);
+        bucket[fill[static_cast<std::size_t>(key[0])]++] = Entry{others_of(key), c * nf + k};  // facet ascending
+      }
   }
-  // Within a bucket the facets share their smallest node: each is sorted by its other one or
-  // two nodes packed into 64 bits (node indices are non-negative int32), then by its position,
-  // in a local array (no indirection through keys while sorting).
-  std::vector<std::pair<std::uint64_t, std::size_t>> local;
+  const auto by_others = [](const Entry& a, const Entry& b) { return a.others < b.others; };
   for (std::size_t node = 0; node < m.nodes.size(); ++node) {
-    local.clear();
-    for (std::size_t i = start[node]; i < start[node + 1]; ++i) {
-      const Key& key = keys[bucket[i]];
-      std::uint64_t packed = static_cast<std::uint32_t>(key[1]);
-      if constexpr (nv - 1 == 3) packed = packed << 32 | static_cast<std::uint32_t>(key[2]);
-      local.emplace_back(packed, bucket[i]);
+    Entry* const first = bucket.data() + start[node];
+    Entry* const last = bucket.data() + start[node + 1];
+    // A node's bucket holds about a quarter of its cells' facets (those it is the smallest node
+    // of): insertion sort there; a node in very many cells (a fan) is sorted in O(n log n).
+    if (last - first <= 32) {
+      for (Entry* i = first + 1; i < last; ++i) {
+        const Entry e = *i;
+        Entry* j = i;
+        for (; j > first && e.others < j[-1].others; --j) *j = j[-1];
+        *j = e;
+      }
+    } else {
+      std::stable_sort(first, last, by_others);
     }
-    std::sort(local.begin(), local.end());
-    for (auto it = local.begin(); it != local.end();) {
-      auto run = it + 1;
-      while (run != local.end() && run->first == it->first) ++run;
+    for (Entry* it = first; it != last;) {
+      Entry* run = it + 1;
+      while (run != last && run->others == it->others) ++run;
       if (run - it > 2)
-        fail(name, "cell " + std::to_string(it[2].second / nf) + ": " + D::facet_word + " shared by more than two cells");
+        fail(name, "cell " + std::to_string(it[2].facet / nf) + ": " + D::facet_word + " shared by more than two cells");
       if (run - it == 2) {
-        const std::size_t c0 = it[0].second / nf, k0 = it[0].second % nf, c1 = it[1].second / nf, k1 = it[1].second % nf;
+        const std::size_t c0 = it[0].facet / nf, k0 = it[0].facet % nf, c1 = it[1].facet / nf, k1 = it[1].facet % nf;
         m.neighbors[c1][k1] = static_cast<std::int32_t>(c0);
         m.neighbors[c0][k0] = static_cast<std::int32_t>(c1);
       }

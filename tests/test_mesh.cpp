@@ -10,6 +10,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 #include "tetia/mesh.hpp"
 
@@ -107,6 +108,56 @@ TEST(Finalize, FlatCellIsCountedAndKept) {
   EXPECT_DOUBLE_EQ(m.total_volume(), 0.5);
   // It is a cell like another: face 012 of cell 0 now has cell 2 across it.
   EXPECT_NE(std::find(m.neighbors[0].begin(), m.neighbors[0].end(), 2), m.neighbors[0].end());
+}
+
+// finalize's neighbours against every pair of cells compared: the cell across facet k of c is
+// the other cell holding the facet's nodes, -1 if none.
+template <class Mesh>
+void expect_brute_force_adjacency(const Mesh& m) {
+  constexpr std::size_t nv = std::tuple_size_v<typename decltype(Mesh::cells)::value_type>;
+  for (std::size_t c = 0; c < m.num_cells(); ++c)
+    for (std::size_t k = 0; k < nv; ++k) {
+      std::int32_t across = -1;
+      for (std::size_t d = 0; d < m.num_cells(); ++d) {
+        if (d == c) continue;
+        bool all = true;
+        for (std::size_t q = 0; q < nv; ++q)
+          if (q != k) all &= std::find(m.cells[d].begin(), m.cells[d].end(), m.cells[c][q]) != m.cells[d].end();
+        if (all) across = static_cast<std::int32_t>(d);
+      }
+      ASSERT_EQ(m.neighbors[c][k], across) << "cell " << c << " facet " << k;
+    }
+}
+
+// Node 0 in every cell (a fan: 3 x 150 faces in its bucket in 3D, 2 x 150 edges in 2D, beyond
+// the insertion sort's 32), the other nodes numbered in a scrambled order; then one cell given
+// twice, whose facets the fan's bucket must find in three cells.
+TEST(Finalize, AdjacencyOfAFanAroundOneNode) {
+  constexpr int n = 150;
+  const auto scrambled = [](int i) { return 1 + (i * 97) % n; };  // 97 is prime to 150: a permutation of 1..n
+  TetMesh t;
+  t.nodes.resize(n + 2);
+  t.nodes[0] = {0, 0, 0};
+  t.nodes[n + 1] = {0, 0, 1};  // the apex
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * i / n;
+    t.nodes[static_cast<std::size_t>(scrambled(i))] = {std::cos(a), std::sin(a), 0.5};
+  }
+  for (int i = 0; i < n; ++i) t.cells.push_back({0, scrambled(i), scrambled((i + 1) % n), n + 1});
+  tetia::finalize(t, "fan");
+  expect_brute_force_adjacency(t);
+  tetia::TriMesh f;
+  f.nodes.resize(n + 1);
+  f.nodes[0] = {0, 0};
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * i / n;
+    f.nodes[static_cast<std::size_t>(scrambled(i))] = {std::cos(a), std::sin(a)};
+  }
+  for (int i = 0; i < n; ++i) f.cells.push_back({0, scrambled(i), scrambled((i + 1) % n)});
+  tetia::finalize(f, "fan");
+  expect_brute_force_adjacency(f);
+  t.cells.push_back(t.cells[7]);
+  EXPECT_EQ(finalize_error(t, "fan"), "tetia: fan: cell " + std::to_string(n) + ": a face shared by more than two cells");
 }
 
 TEST(KuhnMesh, CountsVolumeAndAdjacency) {
