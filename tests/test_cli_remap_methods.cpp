@@ -415,6 +415,32 @@ TEST_F(CliRemapMethodsTest, OperatorsThatCannotBeSavedOrApplied) {
   EXPECT_TRUE(damaged.out.empty());
 }
 
+// The netCDF library is loaded only for ESMF files (app/netcdf_library.hpp): where it cannot be
+// loaded, --save-operator W.nc and apply W.nc end with status 2 and a message naming the file and
+// the library, and write nothing; Matrix Market files do not need it.
+TEST_F(CliRemapMethodsTest, EsmfFilesWithoutTheNetcdfLibraryFailCleanly) {
+  const tetia::TetMesh m = tetia::make_kuhn_mesh({3, 3, 3}, {0, 0, 0}, {1.0 / 3, 1.0 / 3, 1.0 / 3});
+  const std::string source = path("with_x.msh");
+  tetia::write_msh(source, m, {{"x", std::vector<double>(m.num_cells(), 1.0)}});
+  const std::string args = " " + source + " " + b_ + " --field x";
+  ASSERT_EQ(run("remap" + args + " --save-operator " + path("saved.nc")).status, 0);
+  ::setenv("TETIA_NETCDF_LIBRARY", "/nonexistent/libnetcdf.so", 1);
+  const Result save = run("remap" + args + " --save-operator " + path("w.nc") + " -o " + path("o.vtu"));
+  const Result apply = run("apply " + path("saved.nc") + args);
+  const Result mtx = run("remap" + args + " --save-operator " + path("w.mtx"));
+  ::unsetenv("TETIA_NETCDF_LIBRARY");
+  for (const Result* r : {&save, &apply}) {
+    EXPECT_EQ(r->status, 2) << r->err;
+    EXPECT_NE(r->err.find("ESMF weight files need the netCDF library (/nonexistent/libnetcdf.so)"), std::string::npos)
+        << r->err;
+    EXPECT_TRUE(r->out.empty()) << r->out;
+  }
+  EXPECT_NE(save.err.find(path("w.nc")), std::string::npos) << save.err;
+  EXPECT_NE(apply.err.find(path("saved.nc")), std::string::npos) << apply.err;
+  EXPECT_FALSE(fs::exists(path("w.nc")));
+  EXPECT_EQ(mtx.status, 0) << mtx.err;
+}
+
 // The operator reader's fuzz seeds and findings (fuzz/corpus/fuzz_operator_mtx/,
 // fuzz/regressions/fuzz_operator_mtx/) through `tetia apply`: each is applied (status 0) or
 // refused with a message naming the file (status 2); never a crash.
