@@ -194,16 +194,15 @@ TEST(KernelVsExact, Multiscale) { run_family("Multiscale"); }
 // The kernel's error estimate (src/kernel/solve.hpp) against GMP: on every pair of every
 // family, and on 2 x 10^4 pairs of four uniform points in the unit cube (the benchmark's kind,
 // with its slivers), the double kernel's error relative to the smaller tetrahedron, where the
-// estimate is from a tenth to a hundred times the acceptance threshold (4e-13 to 4e-10: where
-// the kernel's decision is made), is at most kEstimateMargin times the estimate, and at most
-// kGenericMargin times it where no coordinate of X is zero. The kernel accepts a result when
-// 0.25 (0.08 without a zero coordinate) of the estimate is at most 1e-12, so an accepted result
-// in that band is within 1e-12 / 2. Empty results count too (their error is the exact volume
-// they miss); contained pairs do not (exact: X's own volume). Far above the band the estimate is
+// estimate is from a tenth to a hundred times the acceptance threshold (2e-13 to 2e-10: where
+// the kernel's decision is made), is at most kEstimateMargin times the estimate. The kernel
+// accepts a result when 0.5 of the estimate is at most 1e-12, so an accepted result in that
+// band is within 1e-12 / 2. Empty results count too (their error is the exact volume they
+// miss); contained pairs do not (exact: X's own volume). Far above the band the estimate is
 // only asked to send the pair on, and it does; the worst ratio there is printed (about 0.2,
 // slivers inside a tetrahedron they share a face with).
 TEST(KernelVsExact, ErrorEstimate) {
-  constexpr double kEstimateMargin = 0.125, kGenericMargin = 0.04;
+  constexpr double kEstimateMargin = 0.25;
   std::vector<Case> cases;
   for (const Family& f : families()) {
     const std::vector<Case> v = f.make();
@@ -217,30 +216,118 @@ TEST(KernelVsExact, ErrorEstimate) {
     c.kind = "unit-cube";
     cases.push_back(c);
   }
-  double worst_band = 0.0, worst_above = 0.0, worst_generic = 0.0;
-  std::string band_kind, above_kind, generic_kind;
+  double worst_band = 0.0, worst_above = 0.0;
+  std::string band_kind, above_kind;
   int in_band = 0, failures = 0;
   for (const Case& c : cases) {
     const detail::KernelEstimate e = detail::kernel_estimate(c.U, c.V);
-    if (!e.ran || e.x_inside || !std::isfinite(e.volume) || !(e.estimate >= 4e-13)) continue;
+    if (!e.ran || e.x_inside || !std::isfinite(e.volume) || !(e.estimate >= 2e-13)) continue;
     const mpq_class smaller = std::min(exact::volume(c.U), exact::volume(c.V));
     if (sgn(smaller) == 0) continue;
     const mpq_class ex = exact::intersection_volume(c.U, c.V);
     const double ratio = mpq_class(abs(mpq_class(e.volume) - ex) / smaller).get_d() / e.estimate;
-    if (e.estimate > 4e-10) {
+    if (e.estimate > 2e-10) {
       if (ratio > worst_above) worst_above = ratio, above_kind = c.kind;
       continue;
     }
     ++in_band;
     if (ratio > worst_band) worst_band = ratio, band_kind = c.kind;
-    if (!e.snapped && ratio > worst_generic) worst_generic = ratio, generic_kind = c.kind;
-    if (!(ratio <= (e.snapped ? kEstimateMargin : kGenericMargin)) && ++failures <= 5)
+    if (!(ratio <= kEstimateMargin) && ++failures <= 5)
       ADD_FAILURE() << "error " << fmt(ratio * e.estimate) << " above " << kEstimateMargin << " x the estimate "
                     << fmt(e.estimate) << " (" << c.kind << ")\n  " << fmt_pair(c.U, c.V);
   }
-  std::printf("[ estimate ] %d pairs in the band: worst error / estimate %.3g (%s), without a zero coordinate %.3g "
-              "(%s); above it: worst %.3g (%s)\n",
-              in_band, worst_band, band_kind.c_str(), worst_generic, generic_kind.c_str(), worst_above, above_kind.c_str());
+  std::printf("[ estimate ] %d pairs in the band: worst error / estimate %.3g (%s); above it: worst %.3g (%s)\n",
+              in_band, worst_band, band_kind.c_str(), worst_above, above_kind.c_str());
   EXPECT_GT(in_band, 1000);
   EXPECT_EQ(failures, 0);
+}
+
+// The same estimate under a directed search: from pairs whose estimate is near the acceptance
+// threshold (a size ratio 1e2 to 3e4 with the smaller inside the larger's box, a sliver of
+// relative height 1e-5 to 1e-2 against a random tetrahedron, two random ones), hill climbing
+// moves one coordinate at a time (by ulps, by a relative 1e-15 to 1e-6, or by 1e-12 to 1e-3 of an
+// edge's extent) while that raises either the double kernel's error over its estimate (even
+// starts) or the error of intersection_volume itself (odd starts), both relative to the
+// smaller tetrahedron. Random families alone had put the worst ratio at 0.03 where no coordinate
+// is zero; this search found 0.094 there, and with it a pair off by 1.11e-12 under the
+// acceptance factor of the time (fuzz/regressions/fuzz_tet_kernel/found-2026-12-03.txt). Every
+// pair visited must satisfy the contract (within 1e-12 of the smaller), and the ratio must stay
+// below kEstimateMargin where the decision is made. This run (2 x 10^4 evaluations) guards; it
+// is too short to have found that pair: eleven longer runs of the same search (1.8 x 10^5 to
+// 10^6 evaluations, 2026-12-03) reached ratios of 0.08 to 0.18 (docs/architecture.md).
+TEST(KernelVsExact, EstimateUnderDirectedSearch) {
+  constexpr double kEstimateMargin = 0.25;
+  constexpr int kStarts = 48, kSteps = 400;
+  Rng g(0x5ea4c4);
+  long evaluations = 0;
+  int contract_failures = 0, margin_failures = 0;
+  double worst_ratio = 0.0, worst_error = 0.0;
+  struct Point {
+    double ratio = -1.0;  // the kernel's error / its estimate, where the estimate is in the band
+    double error = -1.0;  // intersection_volume's error, relative to the smaller tetrahedron
+  };
+  const auto evaluate = [&](const Tet& U, const Tet& V) {
+    Point p;
+    ++evaluations;
+    const detail::KernelEstimate e = detail::kernel_estimate(U, V);
+    if (!e.ran || e.x_inside || !std::isfinite(e.volume)) return p;
+    const mpq_class smaller = std::min(exact::volume(U), exact::volume(V));
+    if (sgn(smaller) == 0) return p;
+    const mpq_class ex = exact::intersection_volume(U, V);
+    if (e.estimate >= 2e-13 && e.estimate <= 2e-10)
+      p.ratio = mpq_class(abs(mpq_class(e.volume) - ex) / smaller).get_d() / e.estimate;
+    p.error = mpq_class(abs(mpq_class(intersection_volume(U, V)) - ex) / smaller).get_d();
+    if (!(p.error <= 1e-12) && ++contract_failures <= 5)
+      ADD_FAILURE() << "intersection_volume off by " << fmt(p.error) << " of the smaller tetrahedron\n  "
+                    << fmt_pair(U, V);
+    if (p.ratio > kEstimateMargin && ++margin_failures <= 5)
+      ADD_FAILURE() << "error " << fmt(p.ratio) << " x the estimate " << fmt(e.estimate) << "\n  " << fmt_pair(U, V);
+    worst_ratio = std::max(worst_ratio, p.ratio);
+    worst_error = std::max(worst_error, p.error);
+    return p;
+  };
+  const auto random_point = [&] { return Vec3{urand(g, 0, 1), urand(g, 0, 1), urand(g, 0, 1)}; };
+  for (int s = 0; s < kStarts; ++s) {
+    Tet U, V;
+    for (;;) {  // a start whose estimate is near the threshold
+      if (s % 3 == 0) {
+        const double ratio = std::pow(10.0, urand(g, 2, 4.5));
+        U = fat_tet(g);
+        const Vec3 c = 0.25 * (((U[0] + U[1]) + U[2]) + U[3]);
+        const Tet T = fat_tet(g);
+        for (int k = 0; k < 4; ++k)
+          V[k] = c + (1.0 / ratio) * (T[k] - Vec3{0.5, 0.5, 0.5}) +
+                 (1.0 / ratio) * Vec3{urand(g, -0.3, 0.3), urand(g, -0.3, 0.3), urand(g, -0.3, 0.3)};
+      } else if (s % 3 == 1) {
+        U = sliver(g, std::pow(10.0, urand(g, -5, -2)));
+        for (Vec3& p : V) p = random_point();
+      } else {
+        for (Vec3& p : U) p = random_point();
+        for (Vec3& p : V) p = random_point();
+      }
+      const detail::KernelEstimate e = detail::kernel_estimate(U, V);
+      if (e.ran && !e.x_inside && !e.empty && e.estimate > 1e-13 && e.estimate < 3e-11) break;
+    }
+    const auto score = [&](const Point& p) { return s % 2 == 0 ? p.ratio : p.error; };
+    double best = score(evaluate(U, V));
+    for (int k = 0; k < kSteps; ++k) {
+      Tet U2 = U, V2 = V;
+      Tet& T = coin(g) ? U2 : V2;
+      const int i = irand(g, 0, 3), axis = irand(g, 0, 2);
+      double& x = axis == 0 ? T[i].x : axis == 1 ? T[i].y : T[i].z;
+      const double extent = std::abs(T[(i + 1) % 4].x - T[i].x);
+      switch (irand(g, 0, 2)) {
+        case 0: x = nudge(x, irand(g, -64, 64)); break;
+        case 1: x *= 1 + (coin(g) ? 1 : -1) * std::pow(10.0, urand(g, -15, -6)); break;
+        default: x += (coin(g) ? 1 : -1) * std::pow(10.0, urand(g, -12, -3)) * extent; break;
+      }
+      const double now = score(evaluate(U2, V2));
+      if (now > best) best = now, U = U2, V = V2;
+    }
+  }
+  std::printf("[ directed ] %ld pairs: worst error / estimate %.3g, worst error of intersection_volume %.3g of "
+              "the smaller\n",
+              evaluations, worst_ratio, worst_error);
+  EXPECT_EQ(contract_failures, 0);
+  EXPECT_EQ(margin_failures, 0);
 }
