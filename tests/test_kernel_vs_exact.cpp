@@ -194,15 +194,15 @@ TEST(KernelVsExact, Multiscale) { run_family("Multiscale"); }
 // The kernel's error estimate (src/kernel/solve.hpp) against GMP: on every pair of every
 // family, and on 2 x 10^4 pairs of four uniform points in the unit cube (the benchmark's kind,
 // with its slivers), the double kernel's error relative to the smaller tetrahedron, where the
-// estimate is from a tenth to a hundred times the acceptance threshold (2e-13 to 2e-10: where
+// estimate is from a tenth to a hundred times the acceptance threshold (1e-13 to 1e-10: where
 // the kernel's decision is made), is at most kEstimateMargin times the estimate. The kernel
-// accepts a result when 0.5 of the estimate is at most 1e-12, so an accepted result in that
-// band is within 1e-12 / 2. Empty results count too (their error is the exact volume they
+// accepts a result when the estimate is at most 1e-12, so an accepted result in that band is
+// within 1e-12 / 2. Empty results count too (their error is the exact volume they
 // miss); contained pairs do not (exact: X's own volume). Far above the band the estimate is
 // only asked to send the pair on, and it does; the worst ratio there is printed (about 0.2,
 // slivers inside a tetrahedron they share a face with).
 TEST(KernelVsExact, ErrorEstimate) {
-  constexpr double kEstimateMargin = 0.25;
+  constexpr double kEstimateMargin = 0.5;
   std::vector<Case> cases;
   for (const Family& f : families()) {
     const std::vector<Case> v = f.make();
@@ -221,12 +221,12 @@ TEST(KernelVsExact, ErrorEstimate) {
   int in_band = 0, failures = 0;
   for (const Case& c : cases) {
     const detail::KernelEstimate e = detail::kernel_estimate(c.U, c.V);
-    if (!e.ran || e.x_inside || !std::isfinite(e.volume) || !(e.estimate >= 2e-13)) continue;
+    if (!e.ran || e.x_inside || !std::isfinite(e.volume) || !(e.estimate >= 1e-13)) continue;
     const mpq_class smaller = std::min(exact::volume(c.U), exact::volume(c.V));
     if (sgn(smaller) == 0) continue;
     const mpq_class ex = exact::intersection_volume(c.U, c.V);
     const double ratio = mpq_class(abs(mpq_class(e.volume) - ex) / smaller).get_d() / e.estimate;
-    if (e.estimate > 2e-10) {
+    if (e.estimate > 1e-10) {
       if (ratio > worst_above) worst_above = ratio, above_kind = c.kind;
       continue;
     }
@@ -244,19 +244,21 @@ TEST(KernelVsExact, ErrorEstimate) {
 
 // The same estimate under a directed search: from pairs whose estimate is near the acceptance
 // threshold (a size ratio 1e2 to 3e4 with the smaller inside the larger's box, a sliver of
-// relative height 1e-5 to 1e-2 against a random tetrahedron, two random ones), hill climbing
-// moves one coordinate at a time (by ulps, by a relative 1e-15 to 1e-6, or by 1e-12 to 1e-3 of an
-// edge's extent) while that raises either the double kernel's error over its estimate (even
-// starts) or the error of intersection_volume itself (odd starts), both relative to the
-// smaller tetrahedron. Random families alone had put the worst ratio at 0.03 where no coordinate
-// is zero; this search found 0.094 there, and with it a pair off by 1.11e-12 under the
-// acceptance factor of the time (fuzz/regressions/fuzz_tet_kernel/found-2026-12-03.txt). Every
-// pair visited must satisfy the contract (within 1e-12 of the smaller), and the ratio must stay
+// relative height 1e-5 to 1e-2 against a random tetrahedron, two random ones; half of them
+// translated by 2^10 to 2^45, a quarter scaled by 2^-600 to 2^600), hill climbing moves one
+// coordinate at a time (by ulps, by a relative 1e-15 to 1e-6, or by 1e-12 to 1e-3 of an edge's
+// extent) while that raises either the double kernel's error over its estimate (even starts)
+// or the error of intersection_volume itself (odd starts), both relative to the smaller
+// tetrahedron. Random families alone had put the worst ratio at 0.03 where no coordinate is
+// zero; this search found 0.094 there, and with it a pair off by 1.11e-12 under the acceptance
+// factor of the time (fuzz/regressions/fuzz_tet_kernel/found-2026-12-03.txt). Every pair
+// visited must satisfy the contract (within 1e-12 of the smaller), and the ratio must stay
 // below kEstimateMargin where the decision is made. This run (2 x 10^4 evaluations) guards; it
-// is too short to have found that pair: eleven longer runs of the same search (1.8 x 10^5 to
-// 10^6 evaluations, 2026-12-03) reached ratios of 0.08 to 0.18 (docs/architecture.md).
+// is too short to have found that pair: longer runs of the same search (1.8 x 10^5 to 10^6
+// evaluations, 2026-12-03) reached ratios of 0.18 near the origin and 0.34 among translated
+// pairs (docs/architecture.md).
 TEST(KernelVsExact, EstimateUnderDirectedSearch) {
-  constexpr double kEstimateMargin = 0.25;
+  constexpr double kEstimateMargin = 0.5;
   constexpr int kStarts = 48, kSteps = 400;
   Rng g(0x5ea4c4);
   long evaluations = 0;
@@ -274,7 +276,7 @@ TEST(KernelVsExact, EstimateUnderDirectedSearch) {
     const mpq_class smaller = std::min(exact::volume(U), exact::volume(V));
     if (sgn(smaller) == 0) return p;
     const mpq_class ex = exact::intersection_volume(U, V);
-    if (e.estimate >= 2e-13 && e.estimate <= 2e-10)
+    if (e.estimate >= 1e-13 && e.estimate <= 1e-10)
       p.ratio = mpq_class(abs(mpq_class(e.volume) - ex) / smaller).get_d() / e.estimate;
     p.error = mpq_class(abs(mpq_class(intersection_volume(U, V)) - ex) / smaller).get_d();
     if (!(p.error <= 1e-12) && ++contract_failures <= 5)
@@ -304,6 +306,14 @@ TEST(KernelVsExact, EstimateUnderDirectedSearch) {
       } else {
         for (Vec3& p : U) p = random_point();
         for (Vec3& p : V) p = random_point();
+      }
+      if (s % 4 < 2) {  // far from the origin: the differences the map forms are still exact
+        const Vec3 o{std::ldexp(urand(g, 1, 2), irand(g, 10, 45)), std::ldexp(urand(g, 1, 2), irand(g, 10, 45)),
+                     -std::ldexp(urand(g, 1, 2), irand(g, 10, 45))};
+        U = translate(U, o), V = translate(V, o);
+      } else if (s % 4 == 2) {
+        const double by = std::ldexp(1.0, irand(g, -600, 600));
+        U = scale(U, by), V = scale(V, by);
       }
       const detail::KernelEstimate e = detail::kernel_estimate(U, V);
       if (e.ran && !e.x_inside && !e.empty && e.estimate > 1e-13 && e.estimate < 3e-11) break;
