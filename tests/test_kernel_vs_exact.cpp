@@ -26,6 +26,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <string>
 
@@ -257,10 +258,34 @@ TEST(KernelVsExact, ErrorEstimate) {
 // is too short to have found that pair: longer runs of the same search (1.8 x 10^5 to 10^6
 // evaluations, 2026-12-03) reached ratios of 0.18 near the origin and 0.34 among translated
 // pairs (docs/architecture.md).
+// A known violation of the accuracy contract (open, issue 15; docs/architecture.md): found by
+// the directed search above run longer (TETIA_DIRECTED_SEARCH=800,1500,2), the double kernel's
+// volume is accepted by its estimate (9.5e-13) but off by 1.97e-12 of the smaller tetrahedron.
+// Disabled because it fails today; run it with --gtest_also_run_disabled_tests. Found
+// translated by about 2^34 (as here); the same pair moved to the origin (exactly) fails alike.
+TEST(KernelVsExact, DISABLED_KnownViolationOfTheEstimate) {
+  const Tet U{{{14899358.972298361, 17146737015.117298, -302572184.25912672},
+               {14899359.082676783, 17146737015.299847, -302572184.37216032},
+               {14899359.107671358, 17146737015.831253, -302572184.38336247},
+               {14899358.964317996, 17146737015.873808, -302572184.09506202}}};
+  const Tet V{{{14899363.847488914, 17146737015.810253, -302572176.40226281},
+               {14899359.065428987, 17146737015.213537, -302572184.38819653},
+               {14899359.913609909, 17146737019.688366, -302572184.1950143},
+               {14899358.58779601, 17146737015.743011, -302572184.5813061}}};
+  const mpq_class smaller = std::min(exact::volume(U), exact::volume(V));
+  const mpq_class ex = exact::intersection_volume(U, V);
+  const double error = mpq_class(abs(mpq_class(intersection_volume(U, V)) - ex) / smaller).get_d();
+  EXPECT_LE(error, 1e-12) << "relative to the smaller tetrahedron";
+}
+
 TEST(KernelVsExact, EstimateUnderDirectedSearch) {
   constexpr double kEstimateMargin = 0.5;
-  constexpr int kStarts = 48, kSteps = 400;
-  Rng g(0x5ea4c4);
+  // TETIA_DIRECTED_SEARCH=STARTS,STEPS,SEED runs a longer search (docs/architecture.md).
+  int starts = 48, steps = 400;
+  unsigned long long seed = 0x5ea4c4;
+  if (const char* env = std::getenv("TETIA_DIRECTED_SEARCH"))
+    ASSERT_EQ(std::sscanf(env, "%d,%d,%llu", &starts, &steps, &seed), 3) << "TETIA_DIRECTED_SEARCH=STARTS,STEPS,SEED";
+  Rng g(seed);
   long evaluations = 0;
   int contract_failures = 0, margin_failures = 0;
   double worst_ratio = 0.0, worst_error = 0.0;
@@ -289,7 +314,7 @@ TEST(KernelVsExact, EstimateUnderDirectedSearch) {
     return p;
   };
   const auto random_point = [&] { return Vec3{urand(g, 0, 1), urand(g, 0, 1), urand(g, 0, 1)}; };
-  for (int s = 0; s < kStarts; ++s) {
+  for (int s = 0; s < starts; ++s) {
     Tet U, V;
     for (;;) {  // a start whose estimate is near the threshold
       if (s % 3 == 0) {
@@ -320,7 +345,7 @@ TEST(KernelVsExact, EstimateUnderDirectedSearch) {
     }
     const auto score = [&](const Point& p) { return s % 2 == 0 ? p.ratio : p.error; };
     double best = score(evaluate(U, V));
-    for (int k = 0; k < kSteps; ++k) {
+    for (int k = 0; k < steps; ++k) {
       Tet U2 = U, V2 = V;
       Tet& T = coin(g) ? U2 : V2;
       const int i = irand(g, 0, 3), axis = irand(g, 0, 2);
