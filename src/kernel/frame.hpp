@@ -106,7 +106,7 @@ struct Frame {
   double det6_sub;  // the same for the other tetrahedron (solve_with's test of the result)
   double size_squared_max;  // the larger sum of squared edge lengths (the rescaling's choice)
   double s_ref, s_sub;      // the sums of squared edge lengths of each (the error estimate)
-  double coordinate_max;    // the largest of 1 and X's |coordinates| before snapping (the same)
+  double coordinate_max;    // the largest of 1 and X's coordinates' permanents / |det6| (the same)
   bool flat_to_rounding;    // U or V has a quality below kFlatQuality (frame_from)
   double C[4][4];
 };
