@@ -834,9 +834,9 @@ std::string read_file_bytes(const std::filesystem::path& file, const std::string
   std::FILE* f = std::fopen(file.c_str(), "rb");
   if (f == nullptr) throw std::runtime_error("tetia: " + name + ": cannot open: " + std::strerror(errno));
   std::string bytes;
-  // A regular file is read into a string of its size in one call: growing it 64 KB at a time
-  // copied and faulted in the text several times over (a tenth of the CLI's time on two 2 MB
-  // meshes). Whatever else there is (a pipe, or a file that grew meanwhile) is appended.
+  // A regular file is read into a string of its size in one call, rather than appended 64 KB at
+  // a time (which copies the text again at each reallocation). Whatever else there is (a pipe,
+  // or a file that grew meanwhile) is appended.
   if (std::filesystem::is_regular_file(st)) {
     const auto size = std::filesystem::file_size(file, ec);
     if (!ec) {
