@@ -285,8 +285,9 @@ TEST(KernelVsExact, EstimateUnderDirectedSearch) {
   // TETIA_DIRECTED_SEARCH=STARTS,STEPS,SEED runs a longer search (docs/architecture.md).
   int starts = 48, steps = 400;
   unsigned long long seed = 0x5ea4c4;
-  if (const char* env = std::getenv("TETIA_DIRECTED_SEARCH"))
+  if (const char* env = std::getenv("TETIA_DIRECTED_SEARCH")) {
     ASSERT_EQ(std::sscanf(env, "%d,%d,%llu", &starts, &steps, &seed), 3) << "TETIA_DIRECTED_SEARCH=STARTS,STEPS,SEED";
+  }
   Rng g(seed);
   long evaluations = 0;
   int contract_failures = 0, margin_failures = 0;
