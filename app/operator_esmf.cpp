@@ -1,7 +1,8 @@
 // app/operator_esmf.cpp -- remap operators as ESMF offline weight files (netCDF, classic 64-bit
-// offset format; app/operator_file.hpp), through the netCDF C library (loaded on first use: netcdf_library.hpp). The reader checks every
-// dimension against the file's size (each entry, source and target value takes bytes there)
-// and against what the meshes justify before it allocates.
+// offset format; app/operator_file.hpp), through the netCDF C library (loaded on first use:
+// netcdf_library.hpp). The reader checks every dimension against the file's size (each entry,
+// source and target value takes bytes there) and against what the meshes justify before it
+// allocates.
 #include <filesystem>
 #include <stdexcept>
 #include <type_traits>
