@@ -35,14 +35,14 @@ struct KernelTrace {
 void trace_kernel(const double (&C)[4][4], KernelTrace& trace, IntersectionStats* stats = nullptr);
 
 /// The double kernel's own result for (U, V) and its error estimate relative to the smaller
-/// tetrahedron (src/kernel/solve.hpp), without the refinement or the exact last resort it
+/// tetrahedron (src/kernel/error_estimate.hpp), without the refinement or the exact last resort it
 /// decides on: for the test that checks the estimate against GMP.
 struct KernelEstimate {
   bool ran = false;       ///< the frame was made and the labels closed (first reference), not flat
   bool x_inside = false;  ///< all of the reference's other tetrahedron inside (its own volume)
   bool empty = false;     ///< no corners
   double volume = 0.0;    ///< the kernel's volume before any refinement
-  double estimate = 0.0;  ///< the error estimate (see src/kernel/solve.hpp for when it accepts)
+  double estimate = 0.0;  ///< the error estimate (src/kernel/error_estimate.hpp says when it accepts)
   bool snapped = false;   ///< some coordinate of X is exactly 0 (on a plane of Y, or snapped to it)
 };
 KernelEstimate kernel_estimate(const Tet& U, const Tet& V);

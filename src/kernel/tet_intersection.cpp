@@ -38,6 +38,7 @@
 //   orientation.hpp         the facets oriented outward
 //   moments.hpp             volume and first moments; eq. (3) back to the caller's frame
 //   fan.hpp                 the pyramids over one facet (shared with refined_clip.hpp)
+//   error_estimate.hpp      the double result's error relative to the smaller tetrahedron
 //   solve.hpp               one pair from start to end, with the repair (other reference),
 //                           the tests that certify the result, and the rescaling
 //   polyhedron_builder.hpp  the result as a Polyhedron
