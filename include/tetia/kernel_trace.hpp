@@ -42,7 +42,11 @@ struct KernelEstimate {
   bool x_inside = false;  ///< all of the reference's other tetrahedron inside (its own volume)
   bool empty = false;     ///< no corners
   double volume = 0.0;    ///< the kernel's volume before any refinement
-  double estimate = 0.0;  ///< the error estimate (src/kernel/error_estimate.hpp says when it accepts)
+  /// The error estimate that decides (src/kernel/error_estimate.hpp; accepted where 0.5 of it is
+  /// at most 1e-12): the smaller of the a priori one and, for a result with corners that is not
+  /// X itself, the a posteriori one.
+  double estimate = 0.0;
+  double a_priori = 0.0;  ///< the a priori estimate alone
   bool snapped = false;   ///< some coordinate of X is exactly 0 (on a plane of Y, or snapped to it)
 };
 KernelEstimate kernel_estimate(const Tet& U, const Tet& V);

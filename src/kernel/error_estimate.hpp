@@ -1,54 +1,79 @@
 // src/kernel/error_estimate.hpp -- whether the kernel's volume is accurate to 1e-12 of the
-// smaller tetrahedron, by an a priori estimate of its error from the frame alone
-// (docs/architecture.md, "Accuracy relative to the smaller tetrahedron"). What it does not
-// certify is computed again in the smaller tetrahedron's frame (refined_clip.hpp).
+// smaller tetrahedron: an a priori estimate of its error from the frame alone, on every pair,
+// and for a result with corners that it does not certify, an a posteriori one from the polytope
+// found (docs/architecture.md, "Accuracy relative to the smaller tetrahedron"). What neither
+// certifies is computed again in the smaller tetrahedron's frame (refined_clip.hpp).
 // Part of the kernel's one translation unit: included by src/kernel/solve.hpp only (what it
 // defines in the anonymous namespace is that file's own).
 //
-// The kernel's corners are convex combinations of X's vertices or of points on X's faces in the
-// reference frame, each resolved to about eps M (eps = 2^-53), M the largest of 1 and X's
-// coordinates' permanents over |det6| (barycentric_map.hpp: at least the largest |coordinate|,
-// the magnitude the kernel's sums and differences work with, and the scale of the map's own
-// rounding error, which a flattened reference amplifies); moving the corners of a convex
-// polytope by d changes its volume by at most about d times its surface. In original units a
-// reference error of eps M is at most d = eps M sqrt(s_ref) (s: the sum of squared edge
-// lengths, so sqrt(s_ref) bounds the map's stretch), and the polytope's surface at most
-// min(s_ref, s_sub) / (2 sqrt 3) (it lies in both tetrahedra, surface is monotone on convex
-// sets, and a triangle's area is at most the sum of its squared edges over 4 sqrt 3, each edge
-// in two faces). Relative to the smaller volume |det6| / 6:
-//   estimate = sqrt(3) eps M sqrt(s_ref) min(s_ref, s_sub) / min(|det6_ref|, |det6_sub|).
-// The constant is first order only, and calibrated, not derived: against GMP on every test
-// family and on unit-cube pairs (KernelVsExact.ErrorEstimate), and by a directed search that
-// climbs towards the largest error (KernelVsExact.EstimateUnderDirectedSearch;
-// docs/architecture.md has the figures), the error was at most 0.22 of the estimate. A result
-// is accepted when 0.5 of the estimate is at most 1e-12 (a factor 2.3 to spare).
+// The premise, common to both: the kernel's corners are convex combinations of X's vertices
+// or of points on X's faces in the reference frame, each resolved to about eps M (eps = 2^-53),
+// M the largest of 1 and X's coordinates' permanents over |det6| (barycentric_map.hpp: at least
+// the largest |coordinate|, the magnitude the kernel's sums and differences work with, and the
+// scale of the map's own rounding error, which a flattened reference amplifies). In original
+// units that is d = eps M sqrt(s_ref) (s: the sum of squared edge lengths, so sqrt(s_ref) bounds
+// the map's stretch). This premise is calibrated, not derived (below).
 //
-// Why the bound on the surface and not the computed polytope's own surface (which certifies 97 %
-// of the random pairs this estimate sends on, 2026-12-04): the premise that the computed
-// polytope lies within d of the exact one fails where facets meet at small angles. A needle
-// whose tip is cut off by two faces of a fat tetrahedron (test family "vs-random" of the
-// slivers) was off by 35 times that estimate, and the directed search found pairs where it
-// let intersection_volume be off by 1.13e-12 of the smaller tetrahedron; the slack of the
-// bound above is what covers those.
+// The a priori estimate. Moving the corners of a convex polytope by d changes its volume by at
+// most about d times its surface, and the polytope's surface is at most min(s_ref, s_sub) /
+// (2 sqrt 3) (it lies in both tetrahedra, surface is monotone on convex sets, and a triangle's
+// area is at most the sum of its squared edges over 4 sqrt 3, each edge in two faces).
+// Relative to the smaller volume |det6| / 6:
+//   a priori = sqrt(3) eps M sqrt(s_ref) min(s_ref, s_sub) / min(|det6_ref|, |det6_sub|).
+//
+// The a posteriori estimate measures the computed polytope K' instead, and adds the error the a
+// priori one leaves to its slack: the rounding of the volume's own evaluation.
+//  - Corners: the volume of a triangulated surface is a polynomial in its corners; moving each
+//    by at most d changes it by at most S' d to first order (S' the surface: each triangle's
+//    volume term moves by d times its area over 3, for each of its 3 corners), plus d^2 times
+//    the sum over the fan's tetrahedra of their three edge vectors' lengths, plus d^3 per
+//    tetrahedron: at most 4.72 L' d^2 + 29.4 d^3 with L' = (3/2 n) times the diagonal of K''s
+//    bounding box (n corners, 2n - 4 triangles).
+//  - Evaluation: the kernel sums, in the reference frame, triple products of corners relative
+//    to corner 0 (build_facets' fans). Each is within 8 eps of its permanent (the rounding of
+//    the differences, 3 eps; of the products and sums, 5 eps), the sum adds at most eps per
+//    term: (16 + 2n) eps times the sum of the permanents, times |det6_ref| / 6 in original
+//    units. A needle cut near its tip has a volume of width^2 times length and triple products
+//    of length^3: its error is eps (length / width)^2 of its volume, far beyond S' d. (Without
+//    this term the estimate was off by 35 times on such a pair: "vs-random" of the slivers.)
+//   a posteriori = 4 (S' d + 4.72 L' d^2 + 29.4 d^3 + evaluation) / (min(|det6_ref|, |det6_sub|) / 6).
+// The factor 4 is its calibration (below). A cheap form with upper bounds on S' (the bounding
+// box's surface) and on the permanents (6 r^3 per triangle, r the largest |coordinate| of the
+// corners relative to corner 0) is tried first; it certifies about half the pairs without the
+// walk over the facets.
+//
+// Calibration. Against GMP on every test family and on unit-cube pairs (KernelVsExact.
+// ErrorEstimate), and under a directed search that climbs towards the largest error over the
+// estimate (KernelVsExact.EstimateUnderDirectedSearch; docs/architecture.md has the figures),
+// the error was at most 0.215 of the a priori estimate (before the a posteriori one existed),
+// and of the smaller of the two at most 0.182 with the a posteriori one's factor 4 (0.52 with a
+// factor 2, 0.60 without). A result is accepted when 0.5 of either estimate is at most 1e-12.
 //
 // (Until 2026-12-03 M was the largest |coordinate| and the factor 0.25, 0.08 for pairs without
 // a zero coordinate, from random families alone; the directed search found errors of up to 3.3
 // times that estimate, and pairs off by 1.11e-12 and 1.97e-12 of the smaller tetrahedron:
 // fuzz/regressions/fuzz_tet_kernel/found-2026-12-03.txt.)
 //
-// Every number here is computed alike by every entry point (the frame), so all take the same
-// way; the test is symmetric in U and V (the reference is), so (U, V) and (V, U) take the same
+// Every number here is computed alike by every entry point (the frame, and the kernel's corners
+// and labels, which do not depend on what the entry point returns), so all take the same way;
+// both tests are symmetric in U and V (the reference is), so (U, V) and (V, U) take the same
 // way too.
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include "frame.hpp"
+#include "kernel_result.hpp"
 
 namespace tetia::detail {
 
 namespace {
+
+constexpr double kAcceptanceFactor = 0.5;  // a result is accepted where 0.5 x estimate <= 1e-12
+constexpr double kPosteriorSafety = 4.0;   // the a posteriori estimate's calibration (see above)
 
 // The estimate's constant with the acceptance factor: accepted where 0.5 x estimate <= 1e-12.
 constexpr double kEstimateConstant = 0.5 * 1.7320508075688772 * 0x1p-53 / 1e-12;
@@ -65,6 +90,105 @@ double a_priori_estimate(const Frame& fr) {
   const double smaller = std::min(std::abs(fr.det6), std::abs(fr.det6_sub));
   return 1.7320508075688772 * 0x1p-53 * fr.coordinate_max * std::sqrt(fr.s_ref) * std::min(fr.s_ref, fr.s_sub) /
          smaller;
+}
+
+// --- the a posteriori estimate (for results with corners that the a priori one sends on) ------
+
+// The corners of the kernel's polytope in original units (relative to the reference's vertex
+// 0) and in the reference frame relative to corner 0 (the apex of build_facets' fans), with
+// the bounding box of the first and the largest |coordinate| of the second.
+struct PolytopeGeometry {
+  Vec3 p[KernelResult::kMaxCorners];
+  Vec3 r[KernelResult::kMaxCorners];
+  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  double r_max = 0.0;
+
+  PolytopeGeometry(const Frame& fr, const KernelResult& res) {
+    const Tet& R = *fr.ref;
+    const Vec3 e1 = R[1] - R[0], e2 = R[2] - R[0], e3 = R[3] - R[0];
+    const double* b0 = res.corners[0].bary;
+    for (int c = 0; c < res.num_corners; ++c) {
+      const double* b = res.corners[c].bary;
+      p[c] = (b[1] * e1 + b[2] * e2) + b[3] * e3;
+      r[c] = Vec3{b[1] - b0[1], b[2] - b0[2], b[3] - b0[3]};
+      lo = {std::min(lo.x, p[c].x), std::min(lo.y, p[c].y), std::min(lo.z, p[c].z)};
+      hi = {std::max(hi.x, p[c].x), std::max(hi.y, p[c].y), std::max(hi.z, p[c].z)};
+      r_max = std::max(r_max, std::max(std::abs(r[c].x), std::max(std::abs(r[c].y), std::abs(r[c].z))));
+    }
+  }
+};
+
+// The a posteriori estimate (see the top of this file) from its measures of the polytope:
+// surface2 twice the surface (original units), permanents the sum of the fan's triple
+// products' permanents (reference frame).
+double a_posteriori_from(const Frame& fr, int n, const PolytopeGeometry& g, double surface2, double permanents) {
+  const Vec3 extent = g.hi - g.lo;
+  const double edges = 1.5 * n * std::sqrt(dot(extent, extent));
+  const double d = 0x1p-53 * fr.coordinate_max * std::sqrt(fr.s_ref);
+  const double corners = (0.5 * surface2 * d + 4.72 * edges * d * d) + 29.4 * d * d * d;
+  const double evaluation = (16.0 + 2.0 * n) * 0x1p-53 * permanents * std::abs(fr.det6) * (1.0 / 6.0);
+  const double smaller = std::min(std::abs(fr.det6), std::abs(fr.det6_sub)) * (1.0 / 6.0);
+  return kPosteriorSafety * (corners + evaluation) / smaller;
+}
+
+// The a posteriori estimate without its acceptance factor, for a result with corners whose
+// labels closed: the facets walked from the labels (as build_facets_walk does; not read from
+// what build_facets stored, which only a Polyhedron's kernel call stores, so that every entry
+// point computes the same number); the surface as the sum of the fans' triangle areas (an upper
+// bound on each planar facet's area whatever the rounding), the permanents over the fans from
+// corner 0 (the facets through it contribute exactly 0). A facet that does not close gives
+// infinity (not certified).
+[[gnu::noinline]] double a_posteriori_estimate(const Frame& fr, const KernelResult& res) {
+  const int n = res.num_corners;
+  const PolytopeGeometry g(fr, res);
+  double surface2 = 0.0, permanents = 0.0;
+  for (int a = 0; a < 8; ++a) {
+    const std::uint32_t here = res.on_plane[a];
+    if (here == 0) continue;
+    const bool through_apex = (here & 1u) != 0;
+    const int start = std::countr_zero(here);
+    const u8* l = res.corners[start].labels;
+    int prev_label = l[0] == a ? l[1] : l[0];
+    int cur = start, prev = start, steps = 0;
+    Vec3 prev_edge{};
+    do {
+      const u8* cl = res.corners[cur].labels;
+      const int next_label = cl[0] + cl[1] + cl[2] - a - prev_label;
+      if (next_label < 0 || next_label > 7) return INFINITY;
+      const std::uint32_t pair = here & res.on_plane[next_label] & ~(1u << cur);
+      if (pair == 0 || (pair & (pair - 1)) != 0 || ++steps > n) return INFINITY;
+      prev_label = next_label;
+      prev = cur;
+      cur = std::countr_zero(pair);
+      const Vec3 edge = g.p[cur] - g.p[start];
+      if (steps >= 2 && cur != start) {
+        const Vec3 twice_area = cross(prev_edge, edge);
+        surface2 += std::sqrt(dot(twice_area, twice_area));
+        if (!through_apex) {
+          const Vec3 &x = g.r[start], &y = g.r[prev], &z = g.r[cur];
+          permanents += std::abs(x.x) * (std::abs(y.y * z.z) + std::abs(y.z * z.y)) +
+                        std::abs(x.y) * (std::abs(y.x * z.z) + std::abs(y.z * z.x)) +
+                        std::abs(x.z) * (std::abs(y.x * z.y) + std::abs(y.y * z.x));
+        }
+      }
+      prev_edge = edge;
+    } while (cur != start);
+  }
+  return a_posteriori_from(fr, n, g, surface2, permanents);
+}
+
+// Whether the a posteriori estimate certifies the kernel's volume (NaN or infinite: not). First
+// with cheap bounds on its measures, no walk: the surface by the bounding box's (surface is
+// monotone on convex sets), the permanents by 6 r_max^3 for each of the at most 2n - 4
+// triangles of the surface. Both are at least the walked measures, so this only saves the walk.
+[[gnu::noinline]] bool accuracy_certified_a_posteriori(const Frame& fr, const KernelResult& res) {
+  const int n = res.num_corners;
+  const PolytopeGeometry g(fr, res);
+  const Vec3 e = g.hi - g.lo;
+  const double box_surface2 = 4.0 * ((e.x * e.y + e.y * e.z) + e.z * e.x);
+  const double r3 = g.r_max * g.r_max * g.r_max;
+  if (kAcceptanceFactor * a_posteriori_from(fr, n, g, box_surface2, 6.0 * (2 * n - 4) * r3) <= 1e-12) return true;
+  return kAcceptanceFactor * a_posteriori_estimate(fr, res) <= 1e-12;
 }
 
 // Whether some coordinate of X is exactly 0: a vertex on a plane of Y, exactly or within the

@@ -200,7 +200,7 @@ Outcome solve_with(const MakeFrame& make_frame, Frame& fr, KernelResult& res, In
       if (stats) ++stats->refined;
       if (!refine_inside(fr, res)) return Outcome::exact;
     }
-  } else if (!accuracy_certified(fr)) [[unlikely]] {
+  } else if (!accuracy_certified(fr) && !accuracy_certified_a_posteriori(fr, res)) [[unlikely]] {
     if (stats) ++stats->refined;
     if (!refine<kMoments>(fr, res)) return Outcome::exact;
   }

@@ -173,7 +173,9 @@ KernelEstimate kernel_estimate(const Tet& U, const Tet& V) {
   e.x_inside = res.x_inside;
   e.empty = res.num_corners == 0;
   e.volume = original_volume(fr, res);
-  e.estimate = a_priori_estimate(fr);
+  e.a_priori = a_priori_estimate(fr);
+  e.estimate = e.a_priori;
+  if (res.num_corners > 0 && !res.x_inside) e.estimate = std::min(e.estimate, a_posteriori_estimate(fr, res));
   e.snapped = has_zero_coordinate(fr.C);
   return e;
 }
