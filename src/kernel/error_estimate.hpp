@@ -137,10 +137,9 @@ double a_posteriori_from(const Frame& fr, int n, const PolytopeGeometry& g, doub
 // point computes the same number); the surface as the sum of the fans' triangle areas (an upper
 // bound on each planar facet's area whatever the rounding), the permanents over the fans from
 // corner 0 (the facets through it contribute exactly 0). A facet that does not close gives
-// infinity (not certified).
-[[gnu::noinline]] double a_posteriori_estimate(const Frame& fr, const KernelResult& res) {
+// infinity (not certified). g: the polytope's corners (PolytopeGeometry above).
+double a_posteriori_walked(const Frame& fr, const KernelResult& res, const PolytopeGeometry& g) {
   const int n = res.num_corners;
-  const PolytopeGeometry g(fr, res);
   double surface2 = 0.0, permanents = 0.0;
   for (int a = 0; a < 8; ++a) {
     const std::uint32_t here = res.on_plane[a];
@@ -177,6 +176,11 @@ double a_posteriori_from(const Frame& fr, int n, const PolytopeGeometry& g, doub
   return a_posteriori_from(fr, n, g, surface2, permanents);
 }
 
+// The same, with the geometry made here (kernel_estimate, for the tests).
+[[gnu::noinline]] double a_posteriori_estimate(const Frame& fr, const KernelResult& res) {
+  return a_posteriori_walked(fr, res, PolytopeGeometry(fr, res));
+}
+
 // Whether the a posteriori estimate certifies the kernel's volume (NaN or infinite: not). First
 // with cheap bounds on its measures, no walk: the surface by the bounding box's (surface is
 // monotone on convex sets), the permanents by 6 r_max^3 for each of the at most 2n - 4
@@ -188,7 +192,7 @@ double a_posteriori_from(const Frame& fr, int n, const PolytopeGeometry& g, doub
   const double box_surface2 = 4.0 * ((e.x * e.y + e.y * e.z) + e.z * e.x);
   const double r3 = g.r_max * g.r_max * g.r_max;
   if (kAcceptanceFactor * a_posteriori_from(fr, n, g, box_surface2, 6.0 * (2 * n - 4) * r3) <= 1e-12) return true;
-  return kAcceptanceFactor * a_posteriori_estimate(fr, res) <= 1e-12;
+  return kAcceptanceFactor * a_posteriori_walked(fr, res, g) <= 1e-12;
 }
 
 // Whether some coordinate of X is exactly 0: a vertex on a plane of Y, exactly or within the
