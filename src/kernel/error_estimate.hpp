@@ -74,9 +74,10 @@ namespace {
 
 constexpr double kAcceptanceFactor = 0.5;  // a result is accepted where 0.5 x estimate <= 1e-12
 constexpr double kPosteriorSafety = 4.0;   // the a posteriori estimate's calibration (see above)
+constexpr double kSqrt3 = 1.7320508075688772;
 
-// The estimate's constant with the acceptance factor: accepted where 0.5 x estimate <= 1e-12.
-constexpr double kEstimateConstant = 0.5 * 1.7320508075688772 * 0x1p-53 / 1e-12;
+// The a priori estimate's constant with the acceptance factor.
+constexpr double kEstimateConstant = kAcceptanceFactor * kSqrt3 * 0x1p-53 / 1e-12;
 
 // Whether the kernel's volume is certified to 1e-12 of the smaller tetrahedron by the estimate
 // above; a NaN or infinite estimate does not certify.
@@ -88,7 +89,7 @@ bool accuracy_certified(const Frame& fr) {
 // The estimate without its acceptance factor (kernel_estimate, for the tests).
 double a_priori_estimate(const Frame& fr) {
   const double smaller = std::min(std::abs(fr.det6), std::abs(fr.det6_sub));
-  return 1.7320508075688772 * 0x1p-53 * fr.coordinate_max * std::sqrt(fr.s_ref) * std::min(fr.s_ref, fr.s_sub) /
+  return kSqrt3 * 0x1p-53 * fr.coordinate_max * std::sqrt(fr.s_ref) * std::min(fr.s_ref, fr.s_sub) /
          smaller;
 }
 
