@@ -57,7 +57,7 @@ step "build-scalar ($cxx, Release, kernel without SSE2: -U__SSE2__)"
 cmake -S . -B build-scalar -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=Release -DTETIA_WERROR=ON \
   -DTETIA_BUILD_BENCH=OFF \
   -DCMAKE_CXX_FLAGS=-U__SSE2__
-kernel_tests=(test_tet_intersection test_kernel_vs_exact test_kernel_properties)
+kernel_tests=(test_tet_intersection test_kernel_vs_exact test_kernel_properties test_kernel_variants)
 cmake --build build-scalar -j"$jobs" --target "${kernel_tests[@]}"
 
 step "kernel tests (build-scalar)"

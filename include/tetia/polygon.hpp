@@ -73,7 +73,8 @@ class Polygon {
   std::vector<std::array<std::uint8_t, 3>> triangle_corners() const;
 
  private:
-  friend struct PolygonBuilder;
+  template <class>
+  friend struct PolygonBuilder;  // the 2D kernel's (src/kernel/tri_kernel.hpp)
 
   int num_corners_ = 0;
   unsigned touched_b_ = 0;

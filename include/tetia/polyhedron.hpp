@@ -84,7 +84,8 @@ class Polyhedron {
   std::vector<std::array<std::uint8_t, 4>> tetrahedra_corners() const;
 
  private:
-  friend struct PolyhedronBuilder;
+  template <class>
+  friend struct PolyhedronBuilder;  // the kernel's (src/kernel/polyhedron_builder.hpp)
 
   int num_corners_ = 0;
   int num_facets_ = 0;

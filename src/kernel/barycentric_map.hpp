@@ -52,7 +52,11 @@ struct BarycentricMap {
   static constexpr double kErrBound = (7.0 + 56.0 * 0x1p-53) * 0x1p-53;
 
   // inv_det6: 1 / det[r1 - r0, r2 - r0, r3 - r0] (Conditioning::inv_det6).
-  BarycentricMap(const Tet& r, double inv_det6) {
+  //
+  // always_inline, as map(): the type is shared by the kernel's variants (OneToMany holds one),
+  // so an out-of-line copy would be one name for every variant's code, and the linker could
+  // hand the baseline the AVX2 variant's (src/kernel/entry_points.hpp, "Linkage").
+  [[gnu::always_inline]] BarycentricMap(const Tet& r, double inv_det6) {
     const double inv = inv_det6;
 #if TETIA_KERNEL_SSE2
     // The loop below for faces (0, 1) and (2, 3) at once: first vertices (r1, r0), (r0, r0),
@@ -118,7 +122,7 @@ struct BarycentricMap {
   // and the permanent |w.x| p.x + |w.y| p.y + |w.z| p.z, det * scale_k if |det| exceeds
   // kErrBound times the permanent, else exactly 0. Then u equal to vertex k (the last such k)
   // gets the unit coordinates of that vertex.
-  void operator()(Vec3 u, double (&out)[4]) const {
+  [[gnu::always_inline]] void operator()(Vec3 u, double (&out)[4]) const {
     LargestDet unused{};
     map<false>(u, out, unused);
   }
@@ -141,7 +145,7 @@ struct BarycentricMap {
   // and |det| left that out of the estimate (a pair off by 1.97e-12 of the smaller tetrahedron,
   // fuzz/regressions/fuzz_tet_kernel/found-2026-12-03.txt).
   template <bool kMax>
-  void map(Vec3 u, double (&out)[4], LargestDet& largest_det) const {
+  [[gnu::always_inline]] void map(Vec3 u, double (&out)[4], LargestDet& largest_det) const {
     unsigned same = 0;  // bit k: u == vertex k
 #if TETIA_KERNEL_SSE2
     const __m128d ux = _mm_set1_pd(u.x), uy = _mm_set1_pd(u.y), uz = _mm_set1_pd(u.z);

@@ -86,8 +86,9 @@ bool accuracy_certified(const Frame& fr) {
   return kEstimateConstant * fr.coordinate_max * std::sqrt(fr.s_ref) * std::min(fr.s_ref, fr.s_sub) <= smaller;
 }
 
-// The estimate without its acceptance factor (kernel_estimate, for the tests).
-double a_priori_estimate(const Frame& fr) {
+// The estimate without its acceptance factor (kernel_estimate, for the tests; maybe_unused:
+// a kernel variant's translation unit has only the entry points).
+[[maybe_unused]] double a_priori_estimate(const Frame& fr) {
   const double smaller = std::min(std::abs(fr.det6), std::abs(fr.det6_sub));
   return kSqrt3 * 0x1p-53 * fr.coordinate_max * std::sqrt(fr.s_ref) * std::min(fr.s_ref, fr.s_sub) /
          smaller;
@@ -178,7 +179,7 @@ double a_posteriori_walked(const Frame& fr, const KernelResult& res, const Polyt
 }
 
 // The same, with the geometry made here (kernel_estimate, for the tests).
-[[gnu::noinline]] double a_posteriori_estimate(const Frame& fr, const KernelResult& res) {
+[[maybe_unused, gnu::noinline]] double a_posteriori_estimate(const Frame& fr, const KernelResult& res) {
   return a_posteriori_walked(fr, res, PolytopeGeometry(fr, res));
 }
 
@@ -197,8 +198,8 @@ double a_posteriori_walked(const Frame& fr, const KernelResult& res, const Polyt
 }
 
 // Whether some coordinate of X is exactly 0: a vertex on a plane of Y, exactly or within the
-// rounding of its orientation (snapped, barycentric_map.hpp).
-bool has_zero_coordinate(const double (&C)[4][4]) {
+// rounding of its orientation (snapped, barycentric_map.hpp). For kernel_estimate.
+[[maybe_unused]] bool has_zero_coordinate(const double (&C)[4][4]) {
   bool zero = false;
   for (int i = 0; i < 4; ++i)
     for (int p = 0; p < 4; ++p) zero |= C[i][p] == 0.0;

@@ -22,6 +22,10 @@
 
 namespace tetia::detail {
 
+// Internal linkage: each kernel variant compiles its own copy for its instruction set, which
+// no other object file can bind to (src/kernel/entry_points.hpp, "Linkage").
+namespace {
+
 namespace exact_sign_impl {
 
 inline void two_sum(double a, double b, double& s, double& e) {
@@ -252,5 +256,7 @@ inline bool orient2d_nearest(double ax, double ay, double bx, double by, double 
   value = nearest_of_expansion(e, n, scratch);
   return true;
 }
+
+}  // namespace
 
 }  // namespace tetia::detail

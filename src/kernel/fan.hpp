@@ -12,6 +12,10 @@
 
 namespace tetia::detail {
 
+// Internal linkage: each kernel variant compiles its own copy for its instruction set, which
+// no other object file can bind to (src/kernel/entry_points.hpp, "Linkage").
+namespace {
+
 template <bool kMoments, class Corner>
 [[gnu::always_inline]] inline void fan_pyramids(const double (&o)[3], int n, const Corner& corner, double& fv,
                                                 double (&fm)[3]) {
@@ -28,5 +32,7 @@ template <bool kMoments, class Corner>
       for (int c = 0; c < 3; ++c) fm[c] += d * (o[c] + p0[c + 1] + p1[c + 1] + p2[c + 1]);
   }
 }
+
+}  // namespace
 
 }  // namespace tetia::detail

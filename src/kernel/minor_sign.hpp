@@ -23,6 +23,10 @@
 
 namespace tetia::detail {
 
+// Internal linkage: each kernel variant compiles its own copy for its instruction set, which
+// no other object file can bind to (src/kernel/entry_points.hpp, "Linkage").
+namespace {
+
 inline double tie_difference(double a, double b, double c, double d) {
   double p, e_p, q, e_q;
   exact_sign_impl::two_product(a, b, p, e_p);
@@ -39,5 +43,7 @@ inline double minor_with_exact_sign(double a, double b, double c, double d) {
     return tie_difference(a, b, c, d);
   return m;
 }
+
+}  // namespace
 
 }  // namespace tetia::detail

@@ -63,6 +63,8 @@ class OneToMany {
   /// s's barycentric map, and whether the signs of its coordinates are certain (the sign of s's
   /// det6 is: quality above kSignCertainQuality).
   const BarycentricMap& map() const { return map_; }
+  const Tet& source() const { return s_; }
+  const Conditioning& source_conditioning() const { return cs_; }
   bool signs_certain() const { return cs_.quality > kSignCertainQuality; }
 
  private:

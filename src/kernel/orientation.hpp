@@ -87,8 +87,9 @@ bool orient_facet_dirs(const KernelResult& r, bool check, std::int8_t (&dir)[8])
   return true;
 }
 
-// orient_facet_dirs, applied to the stored facets.
-bool orient_facets(KernelResult& r, bool check) {
+// orient_facet_dirs, applied to the stored facets (trace_kernel's; unused by the entry points,
+// hence maybe_unused in a kernel variant's translation unit).
+[[maybe_unused]] bool orient_facets(KernelResult& r, bool check) {
   std::int8_t dir[8];
   if (!orient_facet_dirs(r, check, dir)) return false;
   for (int f = 0; f < r.num_facets; ++f)

@@ -1,7 +1,7 @@
 // src/kernel/polyhedron_builder.hpp -- PolyhedronBuilder: the kernel's result as a Polyhedron,
 // facets oriented outward (orientation.hpp), corners back in the caller's coordinates by
 // eq. (3), labels and barycentric coordinates relative to the caller's argument order.
-// Part of the kernel's one translation unit: included by src/kernel/tet_intersection.cpp only.
+// Part of the kernel: included by src/kernel/entry_points.hpp only.
 #pragma once
 
 #include <algorithm>
@@ -25,6 +25,11 @@ namespace tetia {
 // Fills a Polyhedron from the kernel's result: facets oriented outward, original coordinates
 // by eq. (3) (exact input vertices where a corner is one), labels and barycentric coordinates
 // relative to the caller's argument order.
+//
+// A template on the kernel variant (entry_points.hpp) that uses it, only so that each variant's
+// copy of these inline functions has its own name: the linker keeps one copy of an inline
+// function, and the baseline's callers must never be given the copy compiled for AVX2.
+template <class Variant>
 struct PolyhedronBuilder {
   static void clear(Polyhedron& P) {
     P.num_corners_ = P.num_facets_ = 0;

@@ -39,6 +39,10 @@
 
 namespace tetia::detail {
 
+// Internal linkage, like the kernel's other steps: each kernel variant (entry_points.hpp) has
+// its own copy, compiled for its instruction set, which no other object file can bind to.
+namespace {
+
 namespace refined_impl {
 
 // A double-double: hi + lo with |lo| <= ulp(hi) / 2.
@@ -329,5 +333,7 @@ bool refined_moments(const Tet& S, const Tet& B, double det6_B, Moments& out) {
   out.first = out.volume * S[0] + scale * (first_ref[0] * e1 + first_ref[1] * e2 + first_ref[2] * e3);
   return true;
 }
+
+}  // namespace
 
 }  // namespace tetia::detail

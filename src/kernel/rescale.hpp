@@ -18,6 +18,10 @@
 
 namespace tetia::detail {
 
+// Internal linkage: each kernel variant compiles its own copy for its instruction set, which
+// no other object file can bind to (src/kernel/entry_points.hpp, "Linkage").
+namespace {
+
 inline bool scaled_exactly(const double* c, int n, int k, double* out) {
   bool exact = true;
   for (int i = 0; i < n; ++i) {
@@ -26,5 +30,7 @@ inline bool scaled_exactly(const double* c, int n, int k, double* out) {
   }
   return exact;
 }
+
+}  // namespace
 
 }  // namespace tetia::detail

@@ -19,8 +19,9 @@
 // coordinate p), so inheritance and the sign tests of lines 8 and 18 are bit operations. Nothing
 // here allocates (but the exact last resort); all arrays are sized by the worst case.
 //
-// The kernel is one translation unit, this file, so that everything inlined stays inlined; it
-// is split into headers by the steps of Algorithm 2 (all in src/kernel/):
+// The kernel is one translation unit, this file, so that everything inlined stays inlined (one
+// more, tet_intersection_x86_64_v3.cpp, compiles its entry points for AVX2); it is split into
+// headers by the steps of Algorithm 2 (all in src/kernel/):
 //   tables.hpp              constant index tables (edges, faces, lines; edge orders, triples)
 //   kernel_result.hpp       RawCorner, KernelResult: what the kernel produces
 //   lanes.hpp               Quad and its SSE2 or scalar lane operations
@@ -43,7 +44,11 @@
 //                           the tests that certify the result, and the rescaling
 //   polyhedron_builder.hpp  the result as a Polyhedron
 //   one_to_many.hpp         one tetrahedron against many (the supermesh)
-//   tet_intersection.cpp    the entry points (this file)
+//   entry_points.hpp        the entry points, compiled once per instruction set: here (the
+//                           baseline) and in tet_intersection_x86_64_v3.cpp (AVX2)
+//   kernel_variant.hpp      the choice among those compilations at run time
+//   tet_intersection.cpp    this file: the baseline's compilation, the choice, and what is
+//                           computed once per tetrahedron or for the tests
 // and, shared with the 2D kernel (src/tri_intersection.cpp), what makes every finite input
 // work (docs/architecture.md, "Every finite input"):
 //   rescale.hpp             exact power-of-two scaling of extreme sizes
@@ -55,26 +60,21 @@
 #include "tetia/tet_intersection.hpp"
 
 #include <algorithm>
-#include <bit>
-#include <new>
 #include <cmath>
 #include <cstddef>
-#include <cstdint>
+#include <cstdlib>
 #include <cstring>
+#include <string_view>
+
+#if defined(TETIA_KERNEL_X86_64_V3)
+#include <cpuid.h>
+#endif
 
 #include "tetia/kernel_trace.hpp"
 
-#include "algorithm2.hpp"
-#include "barycentric_map.hpp"  // BarycentricMap, TETIA_KERNEL_SSE2 (SSE2 or scalar loops)
-#include "facets.hpp"
-#include "frame.hpp"
-#include "kernel.hpp"
-#include "kernel_result.hpp"
-#include "moments.hpp"
-#include "one_to_many.hpp"
-#include "orientation.hpp"
-#include "polyhedron_builder.hpp"
-#include "solve.hpp"
+#define TETIA_KERNEL_VARIANT baseline
+#define TETIA_KERNEL_VARIANT_NAME "baseline"
+#include "entry_points.hpp"
 
 namespace tetia {
 
@@ -101,6 +101,66 @@ IntersectionStats& IntersectionStats::operator+=(const IntersectionStats& o) {
 
 namespace detail {
 
+namespace {
+
+#if defined(TETIA_KERNEL_X86_64_V3)
+// Whether this CPU runs what the x86-64-v3 variant is compiled for (CMakeLists.txt:
+// -march=x86-64-v3 -mno-fma): the x86-64-v2 and -v3 levels of the x86-64 psABI but FMA, from
+// CPUID, and the operating system saving the SSE and AVX registers' state (OSXSAVE, then XCR0
+// bits 1 and 2). CPUID directly: the compilers' __builtin_cpu_supports does not name every one.
+bool cpu_runs_x86_64_v3() {
+  unsigned a, b, c, d;
+  if (!__get_cpuid(1, &a, &b, &c, &d)) return false;
+  const auto bit = [](unsigned reg, int k) { return ((reg >> k) & 1u) != 0; };
+  const bool leaf1 = bit(c, 0) /* SSE3 */ && bit(c, 9) /* SSSE3 */ && bit(c, 13) /* CMPXCHG16B */ &&
+                     bit(c, 19) /* SSE4.1 */ && bit(c, 20) /* SSE4.2 */ && bit(c, 22) /* MOVBE */ &&
+                     bit(c, 23) /* POPCNT */ && bit(c, 27) /* OSXSAVE */ && bit(c, 28) /* AVX */ &&
+                     bit(c, 29) /* F16C */;
+  if (!leaf1) return false;
+  unsigned xcr0_lo, xcr0_hi;
+  __asm__("xgetbv" : "=a"(xcr0_lo), "=d"(xcr0_hi) : "c"(0u));
+  if ((xcr0_lo & 0x6u) != 0x6u) return false;  // XMM and YMM state
+  if (!__get_cpuid_count(7, 0, &a, &b, &c, &d)) return false;
+  if (!(bit(b, 3) /* BMI1 */ && bit(b, 5) /* AVX2 */ && bit(b, 8) /* BMI2 */)) return false;
+  if (!__get_cpuid(0x80000001u, &a, &b, &c, &d)) return false;
+  return bit(c, 0) /* LAHF/SAHF */ && bit(c, 5) /* LZCNT */;
+}
+#endif
+
+// The variants this CPU runs, the baseline first, into `out`; returns how many. No allocation:
+// the choice is made within the first kernel call, which must not allocate either.
+constexpr int kMaxVariants = 2;
+int runnable_variants(const KernelVariant* (&out)[kMaxVariants]) {
+  int n = 0;
+  out[n++] = &baseline::variant;
+#if defined(TETIA_KERNEL_X86_64_V3)
+  if (cpu_runs_x86_64_v3()) out[n++] = &x86_64_v3::variant;
+#endif
+  return n;
+}
+
+const KernelVariant& choose_variant() {
+  const KernelVariant* runnable[kMaxVariants];
+  const int n = runnable_variants(runnable);
+  if (const char* asked = std::getenv("TETIA_KERNEL_VARIANT"))
+    for (int k = 0; k < n; ++k)
+      if (std::string_view(asked) == runnable[k]->name) return *runnable[k];
+  return *runnable[n - 1];  // the last is the fastest this CPU runs
+}
+
+}  // namespace
+
+std::vector<const KernelVariant*> kernel_variants() {
+  const KernelVariant* runnable[kMaxVariants];
+  const int n = runnable_variants(runnable);
+  return {runnable, runnable + n};
+}
+
+const KernelVariant& kernel_variant() {
+  static const KernelVariant& chosen = choose_variant();
+  return chosen;
+}
+
 Conditioning conditioning(const Tet& t) {
   Conditioning c, unused;  // both lanes compute t: lane for lane what a pair computes
   shape_qualities(t, t, c, unused);
@@ -111,56 +171,12 @@ void conditioning(const Tet& a, const Tet& b, Conditioning& ca, Conditioning& cb
 
 OneToMany::OneToMany(const Tet& s) : s_(s), cs_(conditioning(s)), map_(s, cs_.inv_det6) {}
 
-// The exact last resort's moments (finite input; non-finite is empty).
-Moments exact_moments(const Tet& U, const Tet& V) {
-  if (!finite(U) || !finite(V)) return {};
-  ExactPolyhedron x;
-  exact_polyhedron(U, V, x);
-  return x.moments;
-}
-
-// The faces of t on which the polytope has a facet: labels 4-7 (planes of Y) when t was the
-// reference, 0-3 (faces of X) when s was. Where int(s) crosses the interior of t's face k, a
-// small ball around the crossing lies in s and half of it in t, so s n t has a facet on that
-// face; without one, no path inside s crosses it. The labels are trusted only when the sign of
-// the reference's det6, and so of its map, is certain (kSignCertainQuality).
-unsigned faces_with_facets(const Frame& fr, const KernelResult& res, bool ok, double quality_s, double quality_t) {
-  if (!ok || res.num_corners == 0 || !((fr.swapped ? quality_s : quality_t) > kSignCertainQuality)) return 0xFu;
-  const int base = fr.swapped ? 0 : 4;
-  unsigned faces = 0;
-  for (int k = 0; k < 4; ++k) faces |= unsigned(res.on_plane[base + k] != 0) << k;
-  return faces | OneToMany::kPlanesTested;
-}
-
 Moments OneToMany::moments(const Tet& t, const Conditioning& ct, unsigned* t_faces) const {
-  Frame fr;
-  KernelResult res;
-  const auto make = [&](Frame& f, bool other) { return frame_from(s_, cs_, &map_, t, ct, f, other); };
-  const Outcome outcome = solve_with<true, false>(make, fr, res, nullptr);
-  if (outcome == Outcome::rescale || outcome == Outcome::exact) [[unlikely]] {
-    // As the pairwise entry point, bit for bit (it scales, or computes exactly, likewise).
-    if (t_faces) *t_faces = 0xFu;
-    return intersection_moments(s_, t);
-  }
-  const bool ok = outcome == Outcome::kernel;
-  if (t_faces) *t_faces = faces_with_facets(fr, res, ok, cs_.quality, ct.quality);
-  if (!ok || original_volume(fr, res) == 0.0) return {};  // +0 moments, as intersection_moments
-  return original_moments(fr, res);
+  return kernel_variant().one_to_many_moments(*this, t, ct, t_faces);
 }
 
 Moments OneToMany::intersect(const Tet& t, const Conditioning& ct, Polyhedron& out, unsigned* t_faces) const {
-  Frame fr;
-  KernelResult res;
-  const auto make = [&](Frame& f, bool other) { return frame_from(s_, cs_, &map_, t, ct, f, other); };
-  const Outcome outcome = solve_with<true, true>(make, fr, res, nullptr);
-  const bool ok = outcome == Outcome::kernel;
-  if (t_faces) *t_faces = faces_with_facets(fr, res, ok, cs_.quality, ct.quality);
-  if (outcome == Outcome::empty || (ok && res.num_corners == 0)) return {};  // `out` untouched
-  // The kernel's polytope as the pairwise entry point fills it; the rest (rescaled, exact, or
-  // facets that do not orient) as the pairwise entry point computes it, bit for bit.
-  if (!ok || !PolyhedronBuilder::fill(out, fr, res, false, 0)) [[unlikely]]
-    out = tetia::intersect(s_, t);
-  return out.moments();
+  return kernel_variant().one_to_many_intersect(*this, t, ct, out, t_faces);
 }
 
 KernelEstimate kernel_estimate(const Tet& U, const Tet& V) {
@@ -203,80 +219,11 @@ void trace_kernel(const double (&C)[4][4], KernelTrace& t, IntersectionStats* st
 }  // namespace detail
 
 Polyhedron intersect(const Tet& U, const Tet& V, IntersectionStats* stats) {
-  using detail::Outcome;
-  Polyhedron P;  // one object on every path, so that it is constructed in place (no copy)
-  if (stats) ++stats->calls;
-  detail::Frame fr;
-  detail::KernelResult res;
-  Tet scaled[2];
-  int scale = 0;
-  const Outcome outcome = detail::solve<true, true>(U, V, fr, res, scaled, scale, stats);
-  if (outcome == Outcome::empty) return P;
-  if (outcome == Outcome::kernel) [[likely]] {
-    if (PolyhedronBuilder::fill(P, fr, res, stats != nullptr, scale)) return P;
-    // The facets could not be oriented consistently (labels and geometry disagree): the exact
-    // polytope's corners and facets, with the kernel's moments, which the other entry points
-    // return (and which passed solve_with's tests).
-    if (stats) ++stats->inconsistencies;
-    const Moments m = scale == 0 ? detail::original_moments(fr, res)
-                                 : PolyhedronBuilder::unscaled(detail::original_moments(fr, res), scale);
-    detail::ExactPolyhedron x;
-    detail::exact_polyhedron(U, V, x);
-    PolyhedronBuilder::fill_exact(P, x);
-    PolyhedronBuilder::set_moments(P, m);
-    if (stats) ++stats->exact_fallbacks;
-    return P;
-  }
-  if (!detail::finite(U) || !detail::finite(V)) return P;
-  if (stats) ++stats->exact_fallbacks;
-  detail::ExactPolyhedron x;
-  detail::exact_polyhedron(U, V, x);
-  // Where the exact polytope is not simple (a degenerate intersection: a corner on four planes)
-  // its corners cannot carry the three labels of a simple polytope; the kernel's polytope, if it
-  // closed (the volume test is what rejected it), has them, with coincident corners: its
-  // corners and facets then, with the exact moments.
-  if (!x.simple && res.num_corners > 0 && PolyhedronBuilder::fill(P, fr, res, stats != nullptr, scale)) {
-    PolyhedronBuilder::set_moments(P, x.moments);
-    return P;
-  }
-  PolyhedronBuilder::fill_exact(P, x);
-  return P;
+  return detail::kernel_variant().intersect(U, V, stats);
 }
 
-double intersection_volume(const Tet& U, const Tet& V) {
-  using detail::Outcome;
-  detail::Frame fr;
-  detail::KernelResult res;
-  Tet scaled[2];
-  int scale = 0;
-  switch (detail::solve<false, false>(U, V, fr, res, scaled, scale, nullptr)) {
-    case Outcome::empty:
-      return 0.0;
-    case Outcome::kernel: {
-      const double v = detail::original_volume(fr, res);
-      return scale == 0 ? v : std::ldexp(v, -3 * scale);
-    }
-    default:
-      return detail::exact_moments(U, V).volume;
-  }
-}
+double intersection_volume(const Tet& U, const Tet& V) { return detail::kernel_variant().volume(U, V); }
 
-Moments intersection_moments(const Tet& U, const Tet& V) {
-  using detail::Outcome;
-  detail::Frame fr;
-  detail::KernelResult res;
-  Tet scaled[2];
-  int scale = 0;
-  switch (detail::solve<true, false>(U, V, fr, res, scaled, scale, nullptr)) {
-    case Outcome::empty:
-      return {};
-    case Outcome::kernel:
-      if (detail::original_volume(fr, res) == 0.0) return {};  // +0 moments however the kernel summed zeros
-      return scale == 0 ? detail::original_moments(fr, res)
-                        : PolyhedronBuilder::unscaled(detail::original_moments(fr, res), scale);
-    default:
-      return detail::exact_moments(U, V);
-  }
-}
+Moments intersection_moments(const Tet& U, const Tet& V) { return detail::kernel_variant().moments(U, V); }
 
 }  // namespace tetia
