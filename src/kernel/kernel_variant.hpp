@@ -13,13 +13,14 @@
 // choice stands). Every variant computes the same numbers bit for bit (entry_points.hpp), so
 // the choice changes the speed only.
 //
-// Contract: kernel_variant() is the chosen variant (thread-safe; fixed for the life of the
-// process); kernel_variants() lists every variant this CPU can run, the baseline first (the
+// Contract: kernel_variant() is the chosen variant (thread-safe; chosen when the library is
+// loaded, or by the first call if that comes earlier, and fixed for the life of the process); kernel_variants() lists every variant this CPU can run, the baseline first (the
 // tests compare them). Where the library was built without the x86-64-v3 variant (another
 // architecture, a compiler without the flags, or -DTETIA_KERNEL_VARIANTS=OFF) the baseline is
 // the only one.
 #pragma once
 
+#include <atomic>
 #include <vector>
 
 #include "tetia/geometry.hpp"
@@ -56,8 +57,16 @@ extern const KernelVariant variant;
 }
 #endif
 
-/// The variant the entry points call (chosen on the first call).
-const KernelVariant& kernel_variant();
+/// The chosen variant, set when the library is loaded (null before).
+extern std::atomic<const KernelVariant*> chosen_kernel_variant;
+/// Chooses (CPUID, TETIA_KERNEL_VARIANT), sets chosen_kernel_variant, returns the choice.
+const KernelVariant& choose_kernel_variant();
+
+/// The variant the entry points call: a load and a test, so that an entry point is a jump.
+inline const KernelVariant& kernel_variant() {
+  const KernelVariant* v = chosen_kernel_variant.load(std::memory_order_relaxed);
+  return v != nullptr ? *v : choose_kernel_variant();
+}
 /// Every variant this CPU can run, the baseline first.
 std::vector<const KernelVariant*> kernel_variants();
 

@@ -11,6 +11,7 @@
 #pragma once
 
 #include "barycentric_map.hpp"
+#include "kernel_variant.hpp"
 #include "tetia/geometry.hpp"
 #include "tetia/polyhedron.hpp"
 
@@ -54,11 +55,15 @@ class OneToMany {
   /// input, and when the reference's quality is too low for the sign of its determinant, and so
   /// of its map and of the kernel's labels, to be certain.
   static constexpr unsigned kPlanesTested = 0x10;
-  Moments moments(const Tet& t, const Conditioning& ct, unsigned* t_faces = nullptr) const;
+  Moments moments(const Tet& t, const Conditioning& ct, unsigned* t_faces = nullptr) const {
+    return variant_->one_to_many_moments(*this, t, ct, t_faces);
+  }
   /// out = intersect(s, t) bit for bit, with t_faces as for moments(); returns out's moments
   /// (those of moments()). Where the intersection is empty, returns zero moments and leaves
   /// `out` as it was (no 2 KB to clear for each empty candidate).
-  Moments intersect(const Tet& t, const Conditioning& ct, Polyhedron& out, unsigned* t_faces = nullptr) const;
+  Moments intersect(const Tet& t, const Conditioning& ct, Polyhedron& out, unsigned* t_faces = nullptr) const {
+    return variant_->one_to_many_intersect(*this, t, ct, out, t_faces);
+  }
 
   /// s's barycentric map, and whether the signs of its coordinates are certain (the sign of s's
   /// det6 is: quality above kSignCertainQuality).
@@ -71,6 +76,9 @@ class OneToMany {
   Tet s_;
   Conditioning cs_;
   BarycentricMap map_;  // s's map (a flat or non-finite s is never a reference: not used then)
+  // The kernel's variant (kernel_variant.hpp), called directly: the supermesh calls it for every
+  // candidate.
+  const KernelVariant* variant_;
 };
 
 }  // namespace tetia::detail

@@ -65,6 +65,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string_view>
+#include <atomic>
 
 #if defined(TETIA_KERNEL_X86_64_V3)
 #include <cpuid.h>
@@ -156,10 +157,21 @@ std::vector<const KernelVariant*> kernel_variants() {
   return {runnable, runnable + n};
 }
 
-const KernelVariant& kernel_variant() {
-  static const KernelVariant& chosen = choose_variant();
-  return chosen;
+std::atomic<const KernelVariant*> chosen_kernel_variant{nullptr};
+
+const KernelVariant& choose_kernel_variant() {
+  // Every thread that gets here chooses the same (CPUID and the environment), so a race only
+  // stores the same pointer twice; the tables themselves are constants.
+  const KernelVariant& v = choose_variant();
+  chosen_kernel_variant.store(&v, std::memory_order_relaxed);
+  return v;
 }
+
+namespace {
+// Chosen when the library is loaded (dynamic initialization), so that the entry points find it
+// set; a call from another library's initializer that runs first chooses on the spot.
+[[maybe_unused]] const bool chosen_at_load = (choose_kernel_variant(), true);
+}  // namespace
 
 Conditioning conditioning(const Tet& t) {
   Conditioning c, unused;  // both lanes compute t: lane for lane what a pair computes
@@ -169,15 +181,8 @@ Conditioning conditioning(const Tet& t) {
 
 void conditioning(const Tet& a, const Tet& b, Conditioning& ca, Conditioning& cb) { shape_qualities(a, b, ca, cb); }
 
-OneToMany::OneToMany(const Tet& s) : s_(s), cs_(conditioning(s)), map_(s, cs_.inv_det6) {}
-
-Moments OneToMany::moments(const Tet& t, const Conditioning& ct, unsigned* t_faces) const {
-  return kernel_variant().one_to_many_moments(*this, t, ct, t_faces);
-}
-
-Moments OneToMany::intersect(const Tet& t, const Conditioning& ct, Polyhedron& out, unsigned* t_faces) const {
-  return kernel_variant().one_to_many_intersect(*this, t, ct, out, t_faces);
-}
+OneToMany::OneToMany(const Tet& s)
+    : s_(s), cs_(conditioning(s)), map_(s, cs_.inv_det6), variant_(&kernel_variant()) {}
 
 KernelEstimate kernel_estimate(const Tet& U, const Tet& V) {
   KernelEstimate e;
