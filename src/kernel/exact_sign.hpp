@@ -3,7 +3,7 @@
 // Shewchuk's "Adaptive precision floating-point arithmetic and fast robust geometric
 // predicates", 1997). For the decisions that must be exact and would otherwise need GMP: whether
 // two triangles whose computed intersection has no area really only touch; and for the 2D
-// kernel's accurate determinants (orient2d_accurate in tri_intersection.cpp: needles, points
+// kernel's accurate determinants (orient2d_accurate in tri_kernel.hpp: needles, points
 // near a line, triangles of very different sizes).
 //
 // Contract: orient2d_sign(a, b, c) is the sign (-1, 0, +1) of det[b - a, c - a] for the exact

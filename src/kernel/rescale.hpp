@@ -11,7 +11,7 @@
 // Contract: scaled_exactly(c, n, k, out) writes c_i 2^k and says whether every one is exact
 // (false when some coordinates leave the normal range: so small next to the largest that they
 // lose bits as subnormals, or overflow; the caller's exact last resort then decides). The
-// caller chooses k (from the cells' sizes: 2D, tri_intersection.cpp's solve). Allocation-free.
+// caller chooses k (from the cells' sizes: 2D, tri_kernel.hpp's solve). Allocation-free.
 #pragma once
 
 #include <cmath>

@@ -49,7 +49,7 @@
 //   kernel_variant.hpp      the choice among those compilations at run time
 //   tet_intersection.cpp    this file: the baseline's compilation, the choice, and what is
 //                           computed once per tetrahedron or for the tests
-// and, shared with the 2D kernel (src/tri_intersection.cpp), what makes every finite input
+// and, shared with the 2D kernel (src/kernel/tri_kernel.hpp), what makes every finite input
 // work (docs/architecture.md, "Every finite input"):
 //   rescale.hpp             exact power-of-two scaling of extreme sizes
 //   exact_fallback.hpp      the exact last resort (GMP; implemented in src/exact.cpp)
@@ -60,12 +60,12 @@
 #include "tetia/tet_intersection.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdlib>
 #include <cstring>
 #include <string_view>
-#include <atomic>
 
 #if defined(TETIA_KERNEL_X86_64_V3)
 #include <cpuid.h>
@@ -129,7 +129,8 @@ bool cpu_runs_x86_64_v3() {
 #endif
 
 // The variants this CPU runs, the baseline first, into `out`; returns how many. No allocation:
-// the choice is made within the first kernel call, which must not allocate either.
+// the choice may be made within a kernel call (one that comes before the library's
+// initializer), which must not allocate either.
 constexpr int kMaxVariants = 2;
 int runnable_variants(const KernelVariant* (&out)[kMaxVariants]) {
   int n = 0;
