@@ -1,23 +1,22 @@
 // src/kernel/kernel_variant.hpp -- the kernels compiled for more than one instruction set,
 // and the choice among them at run time (internal to the library).
 //
-// The library must run on any x86-64 (SSE2), yet the 3D kernel is about 10 % faster compiled for
+// The library must run on any x86-64 (SSE2), yet the 3D kernel is 7-10 % faster compiled for
 // x86-64-v3 (AVX2, BMI1/2, LZCNT; docs/benchmarks.md): its code is mostly scalar, and gains from
 // the three-operand VEX encodings and BMI's bit operations rather than from wider vectors. So
 // its entry points (entry_points.hpp) and the 2D kernel (tri_kernel.hpp) are compiled twice, and
 // the public functions (tetia/tet_intersection.hpp, tetia/tri_intersection.hpp) and OneToMany
-// call the variant chosen once, on the first call:
-// x86-64-v3 where the CPU (and the operating system, for the AVX state) supports it, the
-// baseline otherwise, or as the environment variable TETIA_KERNEL_VARIANT asks ("baseline" or
-// "x86-64-v3"; a variant this CPU cannot run, or any other value, is not taken: the automatic
-// choice stands). Every variant computes the same numbers bit for bit (entry_points.hpp), so
-// the choice changes the speed only.
+// call the variant chosen once, when the library is loaded: x86-64-v3 where the CPU (and the
+// operating system, for the AVX state) supports it, the baseline otherwise, or as the
+// environment variable TETIA_KERNEL_VARIANT asks ("baseline" or "x86-64-v3"; a variant this CPU
+// cannot run, or any other value, is not taken: the automatic choice stands). Every variant
+// computes the same numbers bit for bit (entry_points.hpp), so the choice changes the speed only.
 //
 // Contract: kernel_variant() is the chosen variant (thread-safe; chosen when the library is
-// loaded, or by the first call if that comes earlier, and fixed for the life of the process); kernel_variants() lists every variant this CPU can run, the baseline first (the
-// tests compare them). Where the library was built without the x86-64-v3 variant (another
-// architecture, a compiler without the flags, or -DTETIA_KERNEL_VARIANTS=OFF) the baseline is
-// the only one.
+// loaded, or by the first call if that comes earlier, and fixed for the life of the process);
+// kernel_variants() lists every variant this CPU can run, the baseline first (the tests compare
+// them). Where the library was built without the x86-64-v3 variant (another architecture, a
+// compiler without the flags, or -DTETIA_KERNEL_VARIANTS=OFF) the baseline is the only one.
 #pragma once
 
 #include <atomic>
