@@ -11,8 +11,9 @@
 // (tests/test_kernel_variants.cpp compares every entry point of every variant this CPU runs).
 //
 // Linkage: everything the kernel's headers define is internal (anonymous namespaces) or, where
-// a type must be shared, inline code templated on the variant (PolyhedronBuilder<Variant>);
-// what this file defines lives in tetia::detail::TETIA_KERNEL_VARIANT. So no function the
+// a type must be shared, inline code that is always inlined (BarycentricMap, which OneToMany
+// holds) or templated on the variant (PolyhedronBuilder<Variant>, and PolygonBuilder<Variant>
+// in tri_kernel.hpp); what this file defines lives in tetia::detail::TETIA_KERNEL_VARIANT. So no function the
 // variant's object file defines can be bound by the linker to another object's call: a
 // baseline caller never runs AVX2 code. The build checks it (cmake/check_variant_symbols.cmake:
 // every code symbol the AVX2 object defines or exports carries its namespace's name).
