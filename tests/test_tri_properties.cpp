@@ -642,6 +642,33 @@ TEST(TriIntersect, DisjointAndTouchingAreEmpty) {
   }
 }
 
+// Disjoint bounding boxes end before the frame and the kernel (tri_kernel.hpp, boxes_disjoint):
+// empty from every entry point, and nothing counted but the call. Here the kernel would have
+// counted work: edges of `tall` cross lines of the reference (edge signs inherited and
+// computed), and `huge` would have been rescaled first. Boxes that only touch still go to the
+// kernel (DisjointAndTouchingAreEmpty above).
+TEST(TriIntersect, DisjointBoxesStopBeforeTheKernel) {
+  const Triangle tall{Vec2{2, -5}, Vec2{3, -5}, Vec2{2.5, 5}};
+  const Triangle huge{Vec2{0x1p600, 0}, Vec2{0x1p601, 0}, Vec2{0x1p600, 0x1p600}};
+  const double after_one = std::nextafter(1.0, 2.0);  // boxes apart by one ulp
+  const Triangle hair{Vec2{after_one, 0}, Vec2{2, 0}, Vec2{after_one, 1}};
+  for (const Triangle& t : {tall, huge, hair}) {
+    for (const auto& p : kPerms3) {
+      const Triangle tp = permute(t, p);
+      for (const bool swap : {false, true}) {
+        const Triangle& A = swap ? tp : kRef;
+        const Triangle& B = swap ? kRef : tp;
+        TriIntersectionStats st;
+        EXPECT_TRUE(intersect(A, B, &st).empty());
+        EXPECT_EQ(st.calls, 1);
+        EXPECT_EQ(st.edge_inherited + st.edge_paired + st.edge_computed + st.reference_swaps + st.rescaled, 0);
+        EXPECT_EQ(intersection_area(A, B), 0.0);
+        EXPECT_EQ(intersection_moments(A, B).area, 0.0);
+      }
+    }
+  }
+}
+
 TEST(TriIntersect, SharedEdgeFromInsideTouchesThatEdge) {
   // B = (0,0), (1,0), (1/4, 1/4): inside kRef, sharing the edge on y = 0 (opposite B's vertex 2).
   const Triangle b{Vec2{0, 0}, Vec2{1, 0}, Vec2{0.25, 0.25}};

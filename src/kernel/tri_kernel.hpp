@@ -780,6 +780,28 @@ bool finite(const Triangle& t) {
   return true;
 }
 
+// Whether the bounding boxes of A and B are disjoint: on some axis max A < min B or
+// max B < min A, compared exactly on the input, so that a line x = c (or y = c) separates the
+// two strictly and the exact area is 0. Boxes that touch are not disjoint (the kernel decides
+// those). NaN compares false: non-finite input goes on to make_frame, which rejects it. As the
+// 3D kernel's first test (solve.hpp): a fifth of the pairs of random triangles in a square end
+// here, for about 30 instructions, where the frame and the kernel took 1,500 for the same result.
+bool boxes_disjoint(const Triangle& A, const Triangle& B) {
+  double a_lo[2] = {A[0].x, A[0].y}, a_hi[2] = {A[0].x, A[0].y};
+  double b_lo[2] = {B[0].x, B[0].y}, b_hi[2] = {B[0].x, B[0].y};
+  for (int k = 1; k < 3; ++k) {
+    const double a[2] = {A[k].x, A[k].y}, b[2] = {B[k].x, B[k].y};
+    for (int i = 0; i < 2; ++i) {  // min and max written out: the same without branches
+      a_lo[i] = a[i] < a_lo[i] ? a[i] : a_lo[i];
+      a_hi[i] = a_hi[i] < a[i] ? a[i] : a_hi[i];
+      b_lo[i] = b[i] < b_lo[i] ? b[i] : b_lo[i];
+      b_hi[i] = b_hi[i] < b[i] ? b[i] : b_hi[i];
+    }
+  }
+  return (unsigned(a_hi[0] < b_lo[0]) | unsigned(b_hi[0] < a_lo[0]) | unsigned(a_hi[1] < b_lo[1]) |
+          unsigned(b_hi[1] < a_lo[1])) != 0;
+}
+
 // Whether A and B only touch, decided exactly (exact_sign.hpp): 1 if some edge line of one has
 // all of the other on its closed outer side (two convex polygons whose interiors are disjoint
 // are separated by the line of an edge of one of them), 0 if none does (their interiors
@@ -803,10 +825,11 @@ int only_touch(const Triangle& A, const Triangle& B) {
   return 0;
 }
 
-// The double kernel with what certifies its result, as in 3D: the input scaled into the range
-// the kernel is made for (rescale.hpp; `scale` receives the exponent k, results scale back by
-// 2^(2k) and 2^(3k)); if the labels do not close, the other triangle as the reference, which
-// rounds differently. The exact last resort (counted in stats) when
+// The double kernel with what certifies its result, as in 3D: a quick exit for disjoint
+// bounding boxes (boxes_disjoint); the input scaled into the range the kernel is made for
+// (rescale.hpp; `scale` receives the exponent k, results scale back by 2^(2k) and 2^(3k)); if
+// the labels do not close, the other triangle as the reference, which rounds differently. The
+// exact last resort (counted in stats) when
 //  - the frame is flat or not finite in doubles although the input is finite (a triangle far
 //    smaller than its distance from the origin, say);
 //  - the labels do not close with either reference;
@@ -822,6 +845,7 @@ Outcome solve(const Triangle& A_in, const Triangle& B_in, Frame& fr, KernelResul
   res.num_corners = 0;
   res.ref_area = 0.0;
   scale = 0;
+  if (boxes_disjoint(A_in, B_in)) return Outcome::empty;
   Triangle scaled_a, scaled_b;
   const Triangle* As = &A_in;
   const Triangle* Bs = &B_in;
