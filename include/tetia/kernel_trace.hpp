@@ -44,7 +44,7 @@ struct KernelEstimate {
   double volume = 0.0;    ///< the kernel's volume before any refinement
   /// The error estimate that decides (src/kernel/error_estimate.hpp; accepted where 0.5 of it is
   /// at most 1e-12): the smaller of the a priori one and, for a result with corners that is not
-  /// X itself, the a posteriori one.
+  /// X itself and fills less than half of the smaller tetrahedron, the a posteriori one.
   double estimate = 0.0;
   double a_priori = 0.0;  ///< the a priori estimate alone
   bool snapped = false;   ///< some coordinate of X is exactly 0 (on a plane of Y, or snapped to it)

@@ -197,7 +197,8 @@ KernelEstimate kernel_estimate(const Tet& U, const Tet& V) {
   e.volume = original_volume(fr, res);
   e.a_priori = a_priori_estimate(fr);
   e.estimate = e.a_priori;
-  if (res.num_corners > 0 && !res.x_inside) e.estimate = std::min(e.estimate, a_posteriori_estimate(fr, res));
+  if (res.num_corners > 0 && !res.x_inside && a_posteriori_worthwhile(fr, res))
+    e.estimate = std::min(e.estimate, a_posteriori_estimate(fr, res));
   e.snapped = has_zero_coordinate(fr.C);
   return e;
 }
