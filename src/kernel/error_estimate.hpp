@@ -37,10 +37,10 @@
 //    of length^3: its error is eps (length / width)^2 of its volume, far beyond S' d. (Without
 //    this term the estimate was off by 35 times on such a pair: "vs-random" of the slivers.)
 //   a posteriori = 4 (S' d + 4.72 L' d^2 + 29.4 d^3 + evaluation) / (min(|det6_ref|, |det6_sub|) / 6).
-// The factor 4 is its calibration (below). A cheap form with upper bounds on S' (the bounding
-// box's surface) and on the permanents (6 r^3 per triangle, r the largest |coordinate| of the
-// corners relative to corner 0) is tried first; it certifies about half the pairs without the
-// walk over the facets.
+// The factor 4 is its calibration (below). S' and the permanents are measured on the fans the
+// volume is computed from, during the same walk over the facets (build_facets with kMeasure),
+// for every pair the a priori estimate does not certify: a second walk after the kernel's cost
+// more than the rest of the estimate (mispredicted branches).
 //
 // Calibration. Against GMP on every test family and on unit-cube pairs (KernelVsExact.
 // ErrorEstimate), and under a directed search that climbs towards the largest error over the
@@ -65,6 +65,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "facets.hpp"  // FacetMeasures
 #include "frame.hpp"
 #include "kernel_result.hpp"
 
@@ -97,25 +98,24 @@ bool accuracy_certified(const Frame& fr) {
 // --- the a posteriori estimate (for results with corners that the a priori one sends on) ------
 
 // The corners of the kernel's polytope in original units (relative to the reference's vertex
-// 0) and in the reference frame relative to corner 0 (the apex of build_facets' fans), with
-// the bounding box of the first and the largest |coordinate| of the second.
+// 0) and their bounding box; and the measures build_facets takes on its walk with them
+// (FacetMeasures: the surface and the fans' permanents). solve.hpp's run_kernel fills all of it
+// where the a priori estimate does not certify the result.
 struct PolytopeGeometry {
   Vec3 p[KernelResult::kMaxCorners];
-  Vec3 r[KernelResult::kMaxCorners];
-  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-  double r_max = 0.0;
+  Vec3 lo, hi;
+  FacetMeasures walked;
 
-  PolytopeGeometry(const Frame& fr, const KernelResult& res) {
-    const Tet& R = *fr.ref;
-    const Vec3 e1 = R[1] - R[0], e2 = R[2] - R[0], e3 = R[3] - R[0];
-    const double* b0 = res.corners[0].bary;
+  // p, lo and hi from the kernel's corners (before its facets are built).
+  void measure(const Tet& ref, const KernelResult& res) {
+    const Vec3 e1 = ref[1] - ref[0], e2 = ref[2] - ref[0], e3 = ref[3] - ref[0];
+    lo = {INFINITY, INFINITY, INFINITY};
+    hi = {-INFINITY, -INFINITY, -INFINITY};
     for (int c = 0; c < res.num_corners; ++c) {
       const double* b = res.corners[c].bary;
       p[c] = (b[1] * e1 + b[2] * e2) + b[3] * e3;
-      r[c] = Vec3{b[1] - b0[1], b[2] - b0[2], b[3] - b0[3]};
       lo = {std::min(lo.x, p[c].x), std::min(lo.y, p[c].y), std::min(lo.z, p[c].z)};
       hi = {std::max(hi.x, p[c].x), std::max(hi.y, p[c].y), std::max(hi.z, p[c].z)};
-      r_max = std::max(r_max, std::max(std::abs(r[c].x), std::max(std::abs(r[c].y), std::abs(r[c].z))));
     }
   }
 };
@@ -134,53 +134,11 @@ double a_posteriori_from(const Frame& fr, int n, const PolytopeGeometry& g, doub
 }
 
 // The a posteriori estimate without its acceptance factor, for a result with corners whose
-// labels closed: the facets walked from the labels (as build_facets_walk does; not read from
-// what build_facets stored, which only a Polyhedron's kernel call stores, so that every entry
-// point computes the same number); the surface as the sum of the fans' triangle areas (an upper
-// bound on each planar facet's area whatever the rounding), the permanents over the fans from
-// corner 0 (the facets through it contribute exactly 0). A facet that does not close gives
-// infinity (not certified). g: the polytope's corners (PolytopeGeometry above).
-double a_posteriori_walked(const Frame& fr, const KernelResult& res, const PolytopeGeometry& g) {
-  const int n = res.num_corners;
-  double surface2 = 0.0, permanents = 0.0;
-  for (int a = 0; a < 8; ++a) {
-    const std::uint32_t here = res.on_plane[a];
-    if (here == 0) continue;
-    const bool through_apex = (here & 1u) != 0;
-    const int start = std::countr_zero(here);
-    const u8* l = res.corners[start].labels;
-    int prev_label = l[0] == a ? l[1] : l[0];
-    int cur = start, prev = start, steps = 0;
-    Vec3 prev_edge{};
-    do {
-      const u8* cl = res.corners[cur].labels;
-      const int next_label = cl[0] + cl[1] + cl[2] - a - prev_label;
-      if (next_label < 0 || next_label > 7) return INFINITY;
-      const std::uint32_t pair = here & res.on_plane[next_label] & ~(1u << cur);
-      if (pair == 0 || (pair & (pair - 1)) != 0 || ++steps > n) return INFINITY;
-      prev_label = next_label;
-      prev = cur;
-      cur = std::countr_zero(pair);
-      const Vec3 edge = g.p[cur] - g.p[start];
-      if (steps >= 2 && cur != start) {
-        const Vec3 twice_area = cross(prev_edge, edge);
-        surface2 += std::sqrt(dot(twice_area, twice_area));
-        if (!through_apex) {
-          const Vec3 &x = g.r[start], &y = g.r[prev], &z = g.r[cur];
-          permanents += std::abs(x.x) * (std::abs(y.y * z.z) + std::abs(y.z * z.y)) +
-                        std::abs(x.y) * (std::abs(y.x * z.z) + std::abs(y.z * z.x)) +
-                        std::abs(x.z) * (std::abs(y.x * z.y) + std::abs(y.y * z.x));
-        }
-      }
-      prev_edge = edge;
-    } while (cur != start);
-  }
-  return a_posteriori_from(fr, n, g, surface2, permanents);
-}
-
-// The same, with the geometry made here (kernel_estimate, for the tests).
-[[maybe_unused, gnu::noinline]] double a_posteriori_estimate(const Frame& fr, const KernelResult& res) {
-  return a_posteriori_walked(fr, res, PolytopeGeometry(fr, res));
+// facets build_facets measured (g.walked): the surface as the sum of the fans' triangle areas
+// (an upper bound on each planar facet's area whatever the rounding), the permanents over the
+// fans from corner 0 (the facets through it contribute exactly 0).
+double a_posteriori_estimate(const Frame& fr, const KernelResult& res, const PolytopeGeometry& g) {
+  return a_posteriori_from(fr, res.num_corners, g, g.walked.surface2, g.walked.permanents);
 }
 
 // Whether the a posteriori estimate is worth computing for this result: only where the polytope
@@ -202,19 +160,9 @@ bool a_posteriori_worthwhile(const Frame& fr, const KernelResult& res) {
 }
 
 // Whether the a posteriori estimate certifies the kernel's volume (NaN or infinite: not), where
-// it is worth computing (a_posteriori_worthwhile). First with cheap bounds on its measures, no
-// walk: the surface by the bounding box's (surface is monotone on convex sets), the permanents
-// by 6 r_max^3 for each of the at most 2n - 4 triangles of the surface. Both are at least the
-// walked measures, so this only saves the walk.
-[[gnu::noinline]] bool accuracy_certified_a_posteriori(const Frame& fr, const KernelResult& res) {
-  if (!a_posteriori_worthwhile(fr, res)) return false;
-  const int n = res.num_corners;
-  const PolytopeGeometry g(fr, res);
-  const Vec3 e = g.hi - g.lo;
-  const double box_surface2 = 4.0 * ((e.x * e.y + e.y * e.z) + e.z * e.x);
-  const double r3 = g.r_max * g.r_max * g.r_max;
-  if (kAcceptanceFactor * a_posteriori_from(fr, n, g, box_surface2, 6.0 * (2 * n - 4) * r3) <= 1e-12) return true;
-  return kAcceptanceFactor * a_posteriori_walked(fr, res, g) <= 1e-12;
+// it is worth computing (a_posteriori_worthwhile); g as run_kernel measured it.
+bool accuracy_certified_a_posteriori(const Frame& fr, const KernelResult& res, const PolytopeGeometry& g) {
+  return a_posteriori_worthwhile(fr, res) && kAcceptanceFactor * a_posteriori_estimate(fr, res, g) <= 1e-12;
 }
 
 // Whether some coordinate of X is exactly 0: a vertex on a plane of Y, exactly or within the

@@ -117,6 +117,17 @@ bool facets_by_label_walk(KernelResult& r) {
   }
 }
 
+// What build_facets measures on its way for the a posteriori error estimate
+// (error_estimate.hpp), with kMeasure: the sum of the fans' triangle areas, twice (original
+// units: `points`, the corners relative to the reference's vertex 0), over every facet, and the
+// sum of the permanents of the fans' triple products, relative to corner 0 (their apex), over
+// the facets not through corner 0 (the others contribute exactly 0). The triangles are those of
+// the volume's fans, walked once for both.
+struct FacetMeasures {
+  double surface2 = 0.0;
+  double permanents = 0.0;
+};
+
 // build_facets' options.
 // kCornerApex: the fans are joined to corner 0 instead of the mean of the corners. Corner 0 lies
 // on the polytope, so every pyramid still has non-negative volume, and the three facets through
@@ -126,11 +137,15 @@ bool facets_by_label_walk(KernelResult& r) {
 // so intersect(U, V).volume() and intersection_volume(U, V) stay the same number.
 // kStore: the facets' corner indices, labels and fan volumes are stored (a Polyhedron reads
 // them; the volume and the moments alone do not).
-template <FacetMode kMode, bool kCornerApex = false, bool kStore = true>
-bool build_facets(KernelResult& r) {
+// kMeasure: `measures` receives FacetMeasures' sums, from `points` (the facets through corner 0
+// are then walked one after the other, as with kStore, for their areas).
+template <FacetMode kMode, bool kCornerApex = false, bool kStore = true, bool kMeasure = false>
+bool build_facets(KernelResult& r, [[maybe_unused]] const Vec3* points = nullptr,
+                  [[maybe_unused]] FacetMeasures* measures = nullptr) {
   constexpr bool kVolume = kMode != kFacetsOnly, kMoments = kMode == kFacetsMoments;
   static_assert(kVolume || !kCornerApex);
   static_assert(kStore || kCornerApex);
+  static_assert(!kMeasure || kCornerApex);
   r.corner_apex = false;
   const int n = r.num_corners;
   if (n == 0) {  // nothing found (X and Y apart): as the label walk leaves it, without the call
@@ -188,7 +203,13 @@ bool build_facets(KernelResult& r) {
 #else
   for (int a = 0; a < 8; ++a) planes |= unsigned(r.on_plane[a] != 0) << a;
 #endif
-  if constexpr (kCornerApex && !kStore) {
+  [[maybe_unused]] double surface2 = 0.0, permanents = 0.0;  // kMeasure
+  // Twice the area of the triangle (from, b, c), given e_b = b - from; e_c = c - from (kMeasure).
+  [[maybe_unused]] const auto twice_area = [](Vec3 e_b, Vec3 e_c) {
+    const Vec3 t = cross(e_b, e_c);
+    return std::sqrt(dot(t, t));
+  };
+  if constexpr (kCornerApex && !kStore && !kMeasure) {
     // The facets through corner 0 (its three labels): no geometry, only the check that each is
     // one cycle. The three walks run side by side, from corner 0 to its neighbours on each
     // (as below); a walk that is back at corner 0 stays there. One loop instead of three: one
@@ -213,28 +234,41 @@ bool build_facets(KernelResult& r) {
     planes &= ~((1u << a0) | (1u << a1) | (1u << a2));
     r.corner_apex = true;
   } else if constexpr (kCornerApex) {
-    // The same facets, stored (a Polyhedron reads them): one walk after the other, each stored
-    // in its order. Corner 0 is the lowest corner on each, so it is where the walk starts.
+    // The same facets one walk after the other: stored in their order (kStore; a Polyhedron
+    // reads them), and measured (kMeasure). Corner 0 is the lowest corner on each, so it is
+    // where the walk starts.
     const u8* l = r.corners[0].labels;
     const unsigned apex_planes = (1u << l[0]) | (1u << l[1]) | (1u << l[2]);
+    if constexpr (!kStore) r.num_facets = std::popcount(planes);
     for (unsigned rest = apex_planes; rest; rest &= rest - 1) {
       const int a = std::countr_zero(rest);
       const int first = nb[0][l[0] == a ? 1 : 0];
-      r.facet_index[used++] = 0;
-      r.facet_index[used++] = static_cast<u8>(first);
+      if constexpr (kStore) {
+        r.facet_index[used++] = 0;
+        r.facet_index[used++] = static_cast<u8>(first);
+      }
       std::uint32_t visited = 1u | (1u << first);
       int prev = first, cur = across[first][a];  // across[first][a] ^ 0
+      [[maybe_unused]] Vec3 prev_edge{};
+      if constexpr (kMeasure) prev_edge = points[first] - points[0];
       while (cur != 0) {
         visited |= 1u << cur;
-        r.facet_index[used++] = static_cast<u8>(cur);
+        if constexpr (kStore) r.facet_index[used++] = static_cast<u8>(cur);
+        if constexpr (kMeasure) {
+          const Vec3 edge = points[cur] - points[0];
+          surface2 += twice_area(prev_edge, edge);
+          prev_edge = edge;
+        }
         const int next = across[cur][a] ^ prev;
         prev = cur;
         cur = next;
       }
       if (visited != r.on_plane[a]) return false;
-      r.facet_volume6[r.num_facets] = 0.0;
-      r.facet_label[r.num_facets] = static_cast<u8>(a);
-      r.facet_begin[++r.num_facets] = static_cast<u8>(used);
+      if constexpr (kStore) {
+        r.facet_volume6[r.num_facets] = 0.0;
+        r.facet_label[r.num_facets] = static_cast<u8>(a);
+        r.facet_begin[++r.num_facets] = static_cast<u8>(used);
+      }
     }
     planes &= ~apex_planes;
     r.corner_apex = true;
@@ -264,6 +298,8 @@ bool build_facets(KernelResult& r) {
       s0 = o[0] + p0[1], s1 = o[1] + p0[2], s2 = o[2] + p0[3];
       q0 = p1[1], q1 = p1[2], q2 = p1[3];
     }
+    [[maybe_unused]] Vec3 prev_edge{};
+    if constexpr (kMeasure) prev_edge = points[first] - points[start];
     int prev = first, cur = across[first][a] ^ start;
     while (cur != start) {
       visited |= 1u << cur;
@@ -274,6 +310,14 @@ bool build_facets(KernelResult& r) {
         const double cx = px - o[0], cy = py - o[1], cz = pz - o[2];  // rel(cur)
         const double d = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
         fv += d;
+        if constexpr (kMeasure) {
+          permanents += std::abs(ax) * (std::abs(by * cz) + std::abs(bz * cy)) +
+                        std::abs(ay) * (std::abs(bx * cz) + std::abs(bz * cx)) +
+                        std::abs(az) * (std::abs(bx * cy) + std::abs(by * cx));
+          const Vec3 edge = points[cur] - points[start];
+          surface2 += twice_area(prev_edge, edge);
+          prev_edge = edge;
+        }
         if constexpr (kMoments) {  // d * (o + p0 + p1 + p2), in that order
           fm[0] += d * (s0 + q0 + px);
           fm[1] += d * (s1 + q1 + py);
@@ -304,6 +348,10 @@ bool build_facets(KernelResult& r) {
   if constexpr (kVolume) r.ref_volume = vol6 / 6.0;
   if constexpr (kMoments)
     for (int c = 0; c < 3; ++c) r.ref_first[c] = m[c] / 24.0;
+  if constexpr (kMeasure) {
+    measures->surface2 = surface2;
+    measures->permanents = permanents;
+  }
   // Euler's formula for a simple polytope: F = V/2 + 2.
   return 2 * r.num_facets == n + 4;
 }
