@@ -179,6 +179,56 @@ MeshHandle read(const std::filesystem::path& file, bool corner_nodes) {
   return h;
 }
 
+/// The node data and element data of a .msh file, as (point_data, cell_data) dicts of arrays
+/// ((n,) for scalars, (n, components) otherwise) in the order of read()'s nodes and file
+/// cells: every field with values at one time step, and for a field with several the last
+/// (largest) step. Element-node data ($ElementNodeData: one value per node of each element)
+/// has no place in either and is left out (the C++ read_msh_field reads it). A field the mesh
+/// cannot take (values on boundary elements only, a node without a value, a bad line) is left
+/// out with a warning that names it and says why: the mesh itself reads as without its fields.
+/// One pass over the file for the list, one per field.
+py::tuple read_data(const std::filesystem::path& file) {
+  struct Read {
+    std::string name;
+    bool on_cells;
+    int components;
+    std::vector<double> values;
+  };
+  std::vector<Read> fields;
+  std::vector<std::string> skipped;
+  try {
+    py::gil_scoped_release release;
+    for (const FieldInfo& info : msh_fields(file)) {
+      if (info.on_cell_nodes || info.steps.empty()) continue;
+      Read r{info.name, info.on_cells, 1, {}};
+      try {
+        r.values = read_msh_field(file, info.name, info.on_cells, info.steps.back(), &r.components);
+      } catch (const std::bad_alloc&) {
+        throw;
+      } catch (const std::exception& e) {
+        skipped.push_back(std::string(e.what()) + "; " + (info.on_cells ? "element" : "node") + " data \"" +
+                          info.name + "\" left out");
+        continue;
+      }
+      fields.push_back(std::move(r));
+    }
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& e) {
+    os_error(e.what());
+  }
+  for (const std::string& w : skipped)
+    if (PyErr_WarnEx(PyExc_UserWarning, w.c_str(), 2) != 0) throw py::error_already_set();
+  py::dict point_data, cell_data;
+  for (Read& r : fields) {
+    const auto rows = static_cast<py::ssize_t>(r.values.size() / static_cast<std::size_t>(r.components));
+    py::array_t<double> a = r.components == 1 ? to_array(std::move(r.values))
+                                              : to_array(std::move(r.values), {rows, static_cast<py::ssize_t>(r.components)});
+    (r.on_cells ? cell_data : point_data)[py::str(r.name)] = std::move(a);
+  }
+  return py::make_tuple(point_data, cell_data);
+}
+
 }  // namespace
 
 void check_same_dimension(const MeshHandle& source, const MeshHandle& target, const char* what) {
@@ -218,6 +268,10 @@ void bind_meshes(py::module_& m) {
         "or make_tri_mesh by the cells' dimension). ValueError for bad arrays.");
   m.def("read_msh", &read, py::arg("path"), py::arg("corner_nodes") = false,
         "A mesh read from a Gmsh .msh file by tetia's reader (tetia::read_any_mesh). OSError if it cannot be read.");
+  m.def("read_msh_data", &read_data, py::arg("path"),
+        "(point_data, cell_data): the node data and element data of a .msh file, in the order of read_msh's nodes "
+        "and cells; a field with several time steps at its last one; element-node data left out; a field the mesh "
+        "cannot take left out with a UserWarning. OSError if the file cannot be read.");
 }
 
 }  // namespace tetia::python

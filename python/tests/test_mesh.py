@@ -169,6 +169,45 @@ def test_read_mesh_msh_by_tetias_reader_is_in_tag_order(tmp_path):
     assert np.array_equal(back.volumes, m.volumes)
 
 
+@pytest.mark.parametrize("file_format,binary", [("gmsh22", False), ("gmsh22", True), ("gmsh", False), ("gmsh", True)])
+def test_read_mesh_msh_keeps_node_and_element_data(tmp_path, file_format, binary):
+    points = cube_points(40, 12)
+    m = delaunay_mesh(points)
+    rng = np.random.default_rng(5)
+    t = rng.standard_normal(m.num_points)
+    v = rng.standard_normal((m.num_points, 3))
+    rho = rng.standard_normal(m.num_cells)
+    path = str(tmp_path / "cube.msh")
+    meshio.write(path, m.to_meshio(point_data={"T": t, "v": v}, cell_data={"rho": rho}),
+                 file_format=file_format, binary=binary)
+    back = tetia.read_mesh(path)
+    assert np.array_equal(back.points, m.points)
+    assert np.array_equal(back.point_data["T"], t)
+    assert back.point_data["v"].shape == (m.num_points, 3) and np.array_equal(back.point_data["v"], v)
+    assert np.array_equal(back.cell_data["rho"], rho)
+    # what meshio reads from the same file, and what a remap takes
+    other = meshio.read(path)
+    assert np.array_equal(np.ravel(other.point_data["T"]), back.point_data["T"])
+    assert np.allclose(tetia.Remap(back, m, order=1)(back.point_data["T"]), t, rtol=0, atol=1e-12)
+
+
+def test_read_mesh_msh_data_at_the_last_time_step(tmp_path):
+    path = tmp_path / "steps.msh"
+    block = "$ElementData\n1\n\"p\"\n1\n{time}\n3\n{step}\n1\n1\n1 {value}\n$EndElementData\n"
+    path.write_text("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n"
+                    "$EndNodes\n$Elements\n1\n1 4 0 1 2 3 4\n$EndElements\n"
+                    + block.format(time=0.0, step=0, value=1.5) + block.format(time=1.0, step=1, value=2.5)
+                    + "$NodeData\n1\n\"q\"\n1\n0.0\n3\n0\n2\n4\n1 1 2\n2 3 4\n3 5 6\n4 7 8\n$EndNodeData\n")
+    back = tetia.read_mesh(path)
+    assert np.array_equal(back.cell_data["p"], [2.5])
+    assert np.array_equal(back.point_data["q"], [[1, 2], [3, 4], [5, 6], [7, 8]])
+    # a field without a value for every node: left out with a warning naming it, the rest read
+    path.write_text(path.read_text().replace("4\n1 1 2\n", "3\n1 1 2\n").replace("4 7 8\n", ""))
+    with pytest.warns(UserWarning, match='steps.msh: .*node.*; node data "q" left out'):
+        back = tetia.read_mesh(path)
+    assert "q" not in back.point_data and np.array_equal(back.cell_data["p"], [2.5])
+
+
 def test_file_errors_raise_os_error(tmp_path):
     with pytest.raises(FileNotFoundError):
         tetia.read_mesh(str(tmp_path / "missing.msh"))

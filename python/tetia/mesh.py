@@ -234,8 +234,10 @@ class Mesh:
 def read_mesh(path, corner_nodes=False):
     """A Mesh read from a file: Gmsh .msh (2.x, 4.1, ASCII or binary) with tetia's own strict
     reader (nodes in the order of their tags, cells in that of their element tags; boundary and
-    other elements ignored); any other format meshio reads (VTU, XDMF, Exodus, MED, ...) through
-    meshio and Mesh.from_meshio. Raises OSError (FileNotFoundError if it does not exist) with a
+    other elements ignored), its node data and element data in point_data and cell_data ((n,)
+    arrays for scalars, (n, components) otherwise; a field with several time steps at its last
+    one; element-node data left out); any other format meshio reads (VTU, XDMF, Exodus, MED,
+    ...) through meshio and Mesh.from_meshio, with its point_data and cell_data. Raises OSError (FileNotFoundError if it does not exist) with a
     message naming the file, and the line, element or cell where there is one."""
     path = os.fspath(path)
     if not os.path.exists(path):
@@ -243,7 +245,8 @@ def read_mesh(path, corner_nodes=False):
     if path.lower().endswith(".msh"):
         handle = _tetia.read_msh(path, corner_nodes)
         cells = [(MESHIO_NAME[t], a) for t, a in handle.file_cell_blocks()]
-        return Mesh._wrap(handle, handle.nodes, cells)
+        point_data, cell_data = _tetia.read_msh_data(path)
+        return Mesh._wrap(handle, handle.nodes, cells, point_data=point_data, cell_data=cell_data)
     m = _meshio_read(path)
     try:
         return Mesh.from_meshio(m, corner_nodes=corner_nodes, name=path)
