@@ -197,8 +197,11 @@ inline bool orient2d_nearest(double ax, double ay, double bx, double by, double 
   using namespace exact_sign_impl;
   double h[4], l[4];
   exact_differences(ax, ay, bx, by, cx, cy, h, l);
-  bool in_range = true;
-  for (int k = 0; k < 4; ++k) in_range &= h[k] == 0.0 || (std::abs(h[k]) >= 0x1p-480 && std::abs(h[k]) < 0x1p480);
+  unsigned in_range = 1;  // without branches: this test is on the path of every call
+  for (int k = 0; k < 4; ++k) {
+    const double m = std::abs(h[k]);
+    in_range &= unsigned(m == 0.0) | (unsigned(m >= 0x1p-480) & unsigned(m < 0x1p480));
+  }
   if (in_range) {
     double p, ep, q, eq, d, ed;
     two_product(h[0], h[1], p, ep);
