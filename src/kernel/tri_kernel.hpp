@@ -96,6 +96,47 @@ struct SignGeometry {
   bool ref_positive;
 };
 
+// decide_edge_by_pairs' signs from the signs of the edge's ends (si, sj: bit p the sign of
+// coordinate p) and the three comparisons (bit k of `pairs`: crosses_before for the k-th pair
+// (1, 0), (2, 0), (2, 1), whose result counts only where both lines are crossed). cm[p]: the
+// signs at the crossing with P_p. Returns whether the ranks along the edge are distinct.
+constexpr bool edge_signs_from_pairs(unsigned si, unsigned sj, unsigned pairs, u8 (&cm)[3]) {
+  const unsigned crossed = (si ^ sj) & 7u;
+  unsigned before[3] = {0, 0, 0};  // before[p] bit q: P_p is crossed before P_q
+  constexpr int kPairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  for (int k = 0; k < 3; ++k) {
+    const int y = kPairs[k][0], x = kPairs[k][1];
+    const unsigned both = unsigned(bit(crossed, x)) & unsigned(bit(crossed, y));
+    const unsigned xy = unsigned(bit(pairs, k)) & both;
+    before[x] |= xy << y;
+    before[y] |= ((xy ^ 1u) & both) << x;
+  }
+  constexpr u8 kCount[8] = {0, 1, 1, 2, 1, 2, 2, 3};
+  unsigned ranks = 0;
+  for (int p = 0; p < 3; ++p) {
+    const unsigned earlier = crossed & ~before[p] & ~(1u << p);  // crossed before P_p
+    ranks |= unsigned(bit(crossed, p)) << kCount[earlier];
+    // At the crossing with P_p: lines crossed earlier have x_j's sign, the others x_i's.
+    cm[p] = static_cast<u8>(((si & ~earlier) | (sj & earlier) | (1u << p)) & 7u);
+  }
+  return ranks == (1u << kCount[crossed]) - 1u;
+}
+
+// edge_signs_from_pairs for every si | sj << 3 | pairs << 6: cm[0] | cm[1] << 3 | cm[2] << 6,
+// and bit 9 its result.
+struct EdgeTable {
+  std::uint16_t entry[512];
+  constexpr EdgeTable() : entry() {
+    for (unsigned k = 0; k < 512; ++k) {
+      u8 cm[3] = {0, 0, 0};
+      const bool ok = edge_signs_from_pairs(k & 7u, k >> 3 & 7u, k >> 6, cm);
+      entry[k] = static_cast<std::uint16_t>(cm[0] | cm[1] << 3 | cm[2] << 6 | unsigned(ok) << 9);
+    }
+  }
+  constexpr unsigned operator[](unsigned k) const { return entry[k]; }
+};
+constexpr EdgeTable kEdgeTable;
+
 class Kernel {
  public:
   // C: X's barycentric coordinates in Y; x_ccw: whether X's vertices 0, 1, 2 run
@@ -208,28 +249,17 @@ class Kernel {
   // makes them cyclic (ranks collide) the sort decides, which keeps the straight line principle.
   // Returns false in that case. (The sort skips a comparison the principle forces; this path
   // evaluates it and finds the same answer, so it is no different in the result.)
+  // The three comparisons are made for every pair of lines, crossed or not; what follows from
+  // them and the ends' signs is looked up (kEdgeTable, which edge_signs_from_pairs computes).
   bool decide_edge_by_pairs(int e) {
     const int i = kEdgeFrom[e], j = kEdgeTo[e];
-    const unsigned si = sm_[i], sj = sm_[j];
-    const unsigned crossed = (si ^ sj) & 7u;
-    unsigned before[3] = {0, 0, 0};  // before[p] bit q: P_p is crossed before P_q
-    constexpr int kPairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
-    for (const auto& pr : kPairs) {
-      const int y = pr[0], x = pr[1];
-      const unsigned both = unsigned(bit(crossed, x)) & unsigned(bit(crossed, y));
-      const unsigned xy = unsigned(crosses_before(i, j, x, y)) & both;  // as the sort asks it
-      before[x] |= xy << y;
-      before[y] |= ((xy ^ 1u) & both) << x;
-    }
-    constexpr u8 kCount[8] = {0, 1, 1, 2, 1, 2, 2, 3};
-    unsigned ranks = 0;
-    for (int p = 0; p < 3; ++p) {
-      const unsigned earlier = crossed & ~before[p] & ~(1u << p);  // crossed before P_p
-      ranks |= bit(crossed, p) << kCount[earlier];
-      // At the crossing with P_p: lines crossed earlier have x_j's sign, the others x_i's.
-      cm_[e][p] = static_cast<u8>(((si & ~earlier) | (sj & earlier) | (1u << p)) & 7u);
-    }
-    return ranks == (1u << kCount[crossed]) - 1u;
+    const unsigned pairs = unsigned(crosses_before(i, j, 1, 0)) | unsigned(crosses_before(i, j, 2, 0)) << 1 |
+                           unsigned(crosses_before(i, j, 2, 1)) << 2;
+    const unsigned entry = kEdgeTable[sm_[i] | unsigned(sm_[j]) << 3 | pairs << 6];
+    cm_[e][0] = static_cast<u8>(entry & 7u);
+    cm_[e][1] = static_cast<u8>(entry >> 3 & 7u);
+    cm_[e][2] = static_cast<u8>(entry >> 6 & 7u);
+    return (entry >> 9) != 0;
   }
 
   // Lines 11-13: the vertex of Y at P_p ∩ P_q lies in X iff the two crossings of X's boundary
