@@ -265,15 +265,21 @@ class Kernel {
   // Lines 11-13: the vertex of Y at P_p ∩ P_q lies in X iff the two crossings of X's boundary
   // with P_p have different q-signs. A line crossed by X is crossed by exactly two edges, the
   // two at the vertex whose p-sign is the odd one out; a line not crossed sees no vertex.
-  int line_view(int p, int q) const {
+  // line_views(view) sets bit q of view[p] where the two crossings with P_p have different
+  // q-signs, and returns bit p set where X crosses P_p (only there does view[p] mean anything).
+  unsigned line_views(unsigned (&view)[3]) const {
     // The vertex alone in its p-sign, from the pattern of the three signs (-1: none, all equal).
     constexpr std::int8_t kLone[8] = {-1, 0, 1, 2, 2, 1, 0, -1};
-    const unsigned pattern = bit(sm_[0], p) | bit(sm_[1], p) << 1 | bit(sm_[2], p) << 2;
-    const int lone = kLone[pattern];
-    const int l = lone < 0 ? 0 : lone;
-    // The two edges at `lone` are those opposite the other two vertices.
-    const int view = int(bit(cm_[kEdgeFrom[l]][p], q) != bit(cm_[kEdgeTo[l]][p], q));
-    return lone < 0 ? -1 : view;
+    unsigned crossed = 0;
+    for (int p = 0; p < 3; ++p) {
+      const unsigned pattern = unsigned(bit(sm_[0], p)) | unsigned(bit(sm_[1], p)) << 1 | unsigned(bit(sm_[2], p)) << 2;
+      const int lone = kLone[pattern];
+      const int l = lone < 0 ? 0 : lone;
+      // The two edges at `lone` are those opposite the other two vertices.
+      view[p] = unsigned(cm_[kEdgeFrom[l]][p] ^ cm_[kEdgeTo[l]][p]);
+      crossed |= unsigned(lone >= 0) << p;
+    }
+    return crossed;
   }
 
   // Appends a corner if `exists`, without branching on it: the slot is written either way and
@@ -331,9 +337,12 @@ bool Kernel::run(KernelResult& out) {
     }
     // Lines 11-13: vertex r of Y, at P_p ∩ P_q. Decided from P_p (or from P_q when X does not
     // cross P_p); the two views agree by the pairing of line 10 (checked with statistics).
+    unsigned view[3];
+    const unsigned crossed = line_views(view);
     for (int r = 0; r < 3; ++r) {
       const int p = (r + 1) % 3, q = (r + 2) % 3;
-      const int first = line_view(p, q), other = line_view(q, p);
+      const int first = bit(crossed, p) ? int(bit(view[p], q)) : -1;
+      const int other = bit(crossed, q) ? int(bit(view[q], p)) : -1;
       const int inside = first < 0 ? other : first;
       if (stats_ && first >= 0 && other >= 0 && first != other) out.contradiction = true;
       // Y is counter-clockwise: the boundary arrives on the line opposite the next vertex.
@@ -751,16 +760,16 @@ FrameStatus make_frame(const Triangle& A_in, const Triangle& B_in, Frame& fr, bo
   fr.x_ccw = (detA > 0.0) == (detB > 0.0);
   const BarycentricMap bary(*fr.ref, fr.det2);
   fr.inv_det2 = bary.inv;
-  double probe = 0.0;  // stays 0 unless a coordinate is infinite or NaN
-  bool big = false;
-  for (int i = 0; i < 3; ++i) {
-    bary((*fr.sub)[i], fr.C[i], fr.C_perm[i], accurate_near_zero);
-    for (int p = 0; p < 3; ++p) {
-      probe += fr.C[i][p] * 0.0;
-      big |= std::abs(fr.C[i][p]) > 0x1p8;
-    }
+  for (int i = 0; i < 3; ++i) bary((*fr.sub)[i], fr.C[i], fr.C_perm[i], accurate_near_zero);
+  // Whether every coordinate is finite (not NaN, not infinite) and whether some is large; as
+  // bitwise operations on the comparisons, over the nine as one array (vectorizable).
+  unsigned finite = 1, big = 0;
+  for (int k = 0; k < 9; ++k) {
+    const double m = std::abs(fr.C[k / 3][k % 3]);
+    finite &= unsigned(m <= 0x1.fffffffffffffp1023);
+    big |= unsigned(m > 0x1p8);
   }
-  fr.careful = big;
+  fr.careful = big != 0;
   if (big) [[unlikely]] {
     double c_max = 0.0, perm_max = 0.0;
     for (int i = 0; i < 3; ++i)
@@ -771,7 +780,7 @@ FrameStatus make_frame(const Triangle& A_in, const Triangle& B_in, Frame& fr, bo
     fr.C_max = c_max;
     fr.C_error = BarycentricMap::kErrBound * perm_max * std::abs(bary.inv) * (1.0 + 0x1p-50);
   }
-  return probe == 0.0 ? FrameStatus::ok : FrameStatus::flat_or_not_finite;
+  return finite ? FrameStatus::ok : FrameStatus::flat_or_not_finite;
 }
 
 template <bool kMoments>
