@@ -38,9 +38,7 @@
 //    this term the estimate was off by 35 times on such a pair: "vs-random" of the slivers.)
 //   a posteriori = 4 (S' d + 4.72 L' d^2 + 29.4 d^3 + evaluation) / (min(|det6_ref|, |det6_sub|) / 6).
 // The factor 4 is its calibration (below). S' and the permanents are measured on the fans the
-// volume is computed from, during the same walk over the facets (build_facets with kMeasure),
-// for every pair the a priori estimate does not certify: a second walk after the kernel's cost
-// more than the rest of the estimate (mispredicted branches).
+// volume was computed on, by a second walk of build_facets (kMeasure) over the kernel's result.
 //
 // Calibration. Against GMP on every test family and on unit-cube pairs (KernelVsExact.
 // ErrorEstimate), and under a directed search that climbs towards the largest error over the
@@ -98,16 +96,16 @@ bool accuracy_certified(const Frame& fr) {
 // --- the a posteriori estimate (for results with corners that the a priori one sends on) ------
 
 // The corners of the kernel's polytope in original units (relative to the reference's vertex
-// 0) and their bounding box; and the measures build_facets takes on its walk with them
-// (FacetMeasures: the surface and the fans' permanents). solve.hpp's run_kernel fills all of it
-// where the a priori estimate does not certify the result.
+// 0) and their bounding box; and the measures a walk over the facets takes with them
+// (FacetMeasures: the surface and the fans' permanents, on the fans the volume was computed on).
 struct PolytopeGeometry {
   Vec3 p[KernelResult::kMaxCorners];
   Vec3 lo, hi;
   FacetMeasures walked;
 
-  // p, lo and hi from the kernel's corners (before its facets are built).
-  void measure(const Tet& ref, const KernelResult& res) {
+  // p, lo and hi from the kernel's corners; then `walked` (build_facets with kMeasure). False
+  // where the walk cannot be made (labels the fast walk does not take: not certified then).
+  bool measure(const Tet& ref, KernelResult& res) {
     const Vec3 e1 = ref[1] - ref[0], e2 = ref[2] - ref[0], e3 = ref[3] - ref[0];
     lo = {INFINITY, INFINITY, INFINITY};
     hi = {-INFINITY, -INFINITY, -INFINITY};
@@ -117,6 +115,7 @@ struct PolytopeGeometry {
       lo = {std::min(lo.x, p[c].x), std::min(lo.y, p[c].y), std::min(lo.z, p[c].z)};
       hi = {std::max(hi.x, p[c].x), std::max(hi.y, p[c].y), std::max(hi.z, p[c].z)};
     }
+    return build_facets<kFacetsVolume, true, false, true>(res, p, &walked);
   }
 };
 
@@ -134,10 +133,15 @@ double a_posteriori_from(const Frame& fr, int n, const PolytopeGeometry& g, doub
 }
 
 // The a posteriori estimate without its acceptance factor, for a result with corners whose
-// facets build_facets measured (g.walked): the surface as the sum of the fans' triangle areas
-// (an upper bound on each planar facet's area whatever the rounding), the permanents over the
-// fans from corner 0 (the facets through it contribute exactly 0).
-double a_posteriori_estimate(const Frame& fr, const KernelResult& res, const PolytopeGeometry& g) {
+// labels closed (infinity where the measuring walk cannot be made): the surface as the sum of
+// the fans' triangle areas (an upper bound on each planar facet's area whatever the rounding),
+// the permanents over the fans from corner 0 (the facets through it contribute exactly 0).
+// Walked after the kernel's own walk, and only for the results that need it, so that the rest
+// pay nothing for it (measuring on the kernel's walk, for every pair the a priori estimate does
+// not certify, cost the near-identical pairs 3 %).
+[[gnu::noinline]] double a_posteriori_estimate(const Frame& fr, KernelResult& res) {
+  PolytopeGeometry g;
+  if (!g.measure(*fr.ref, res)) return INFINITY;
   return a_posteriori_from(fr, res.num_corners, g, g.walked.surface2, g.walked.permanents);
 }
 
@@ -160,9 +164,9 @@ bool a_posteriori_worthwhile(const Frame& fr, const KernelResult& res) {
 }
 
 // Whether the a posteriori estimate certifies the kernel's volume (NaN or infinite: not), where
-// it is worth computing (a_posteriori_worthwhile); g as run_kernel measured it.
-bool accuracy_certified_a_posteriori(const Frame& fr, const KernelResult& res, const PolytopeGeometry& g) {
-  return a_posteriori_worthwhile(fr, res) && kAcceptanceFactor * a_posteriori_estimate(fr, res, g) <= 1e-12;
+// it is worth computing (a_posteriori_worthwhile).
+bool accuracy_certified_a_posteriori(const Frame& fr, KernelResult& res) {
+  return a_posteriori_worthwhile(fr, res) && kAcceptanceFactor * a_posteriori_estimate(fr, res) <= 1e-12;
 }
 
 // Whether some coordinate of X is exactly 0: a vertex on a plane of Y, exactly or within the

@@ -137,22 +137,28 @@ struct FacetMeasures {
 // so intersect(U, V).volume() and intersection_volume(U, V) stay the same number.
 // kStore: the facets' corner indices, labels and fan volumes are stored (a Polyhedron reads
 // them; the volume and the moments alone do not).
-// kMeasure: `measures` receives FacetMeasures' sums, from `points` (the facets through corner 0
-// are then walked one after the other, as with kStore, for their areas).
+// kMeasure: a second walk over a result the first built, which changes nothing in it: `measures`
+// receives FacetMeasures' sums, from `points`, along the fans the first walk computed the volume
+// on (the facets through corner 0 walked one after the other, as with kStore, for their areas).
+// False where the fast walk cannot run (the first one then took the label walk).
 template <FacetMode kMode, bool kCornerApex = false, bool kStore = true, bool kMeasure = false>
 bool build_facets(KernelResult& r, [[maybe_unused]] const Vec3* points = nullptr,
                   [[maybe_unused]] FacetMeasures* measures = nullptr) {
   constexpr bool kVolume = kMode != kFacetsOnly, kMoments = kMode == kFacetsMoments;
   static_assert(kVolume || !kCornerApex);
   static_assert(kStore || kCornerApex);
-  static_assert(!kMeasure || kCornerApex);
-  r.corner_apex = false;
+  static_assert(!kMeasure || (kCornerApex && !kStore && !kMoments));
+  constexpr bool kWrite = !kMeasure;  // the result is written (not a measuring walk)
+  if constexpr (kWrite) r.corner_apex = false;
   const int n = r.num_corners;
   if (n == 0) {  // nothing found (X and Y apart): as the label walk leaves it, without the call
-    r.set_empty();
-    return true;
+    if constexpr (kWrite) r.set_empty();
+    return kWrite;
   }
-  if (n < 4) return facets_by_label_walk<kMode>(r);
+  if (n < 4) {
+    if constexpr (kMeasure) return false;
+    return facets_by_label_walk<kMode>(r);
+  }
   u8 nb[KernelResult::kMaxCorners][2];  // nb[c][0], nb[c][1]: across the edges off l0, off l1
   u8 across[KernelResult::kMaxCorners][8];  // [c][a]: xor of c's two neighbours on facet a
   unsigned bad = 0;
@@ -174,7 +180,10 @@ bool build_facets(KernelResult& r, [[maybe_unused]] const Vec3* points = nullptr
     if constexpr (kVolume && !kCornerApex)
       for (int k = 0; k < 3; ++k) o[k] += r.corners[c].bary[k + 1];
   }
-  if (bad) return facets_by_label_walk<kMode>(r);
+  if (bad) {
+    if constexpr (kMeasure) return false;
+    return facets_by_label_walk<kMode>(r);
+  }
   if constexpr (kCornerApex) {
     for (int k = 0; k < 3; ++k) o[k] = r.corners[0].bary[k + 1];
   } else if constexpr (kVolume) {
@@ -186,8 +195,10 @@ bool build_facets(KernelResult& r, [[maybe_unused]] const Vec3* points = nullptr
     const double* p = r.corners[c].bary;
     x = p[1] - o[0], y = p[2] - o[1], z = p[3] - o[2];
   };
-  r.num_facets = 0;
-  r.facet_begin[0] = 0;
+  if constexpr (kWrite) {
+    r.num_facets = 0;
+    r.facet_begin[0] = 0;
+  }
   double vol6 = 0.0, m[3] = {0.0, 0.0, 0.0};
   [[maybe_unused]] int used = 0;  // facet indices stored (with kStore)
   unsigned planes = 0;  // bit a: some corner lies on plane a
@@ -239,7 +250,6 @@ bool build_facets(KernelResult& r, [[maybe_unused]] const Vec3* points = nullptr
     // where the walk starts.
     const u8* l = r.corners[0].labels;
     const unsigned apex_planes = (1u << l[0]) | (1u << l[1]) | (1u << l[2]);
-    if constexpr (!kStore) r.num_facets = std::popcount(planes);
     for (unsigned rest = apex_planes; rest; rest &= rest - 1) {
       const int a = std::countr_zero(rest);
       const int first = nb[0][l[0] == a ? 1 : 0];
@@ -271,7 +281,7 @@ bool build_facets(KernelResult& r, [[maybe_unused]] const Vec3* points = nullptr
       }
     }
     planes &= ~apex_planes;
-    r.corner_apex = true;
+    if constexpr (kWrite) r.corner_apex = true;
   }
   for (; planes; planes &= planes - 1) {
     const int a = std::countr_zero(planes);
@@ -345,13 +355,14 @@ bool build_facets(KernelResult& r, [[maybe_unused]] const Vec3* points = nullptr
       r.facet_begin[++r.num_facets] = static_cast<u8>(used);
     }
   }
-  if constexpr (kVolume) r.ref_volume = vol6 / 6.0;
-  if constexpr (kMoments)
-    for (int c = 0; c < 3; ++c) r.ref_first[c] = m[c] / 24.0;
   if constexpr (kMeasure) {
     measures->surface2 = surface2;
     measures->permanents = permanents;
+    return true;
   }
+  if constexpr (kVolume) r.ref_volume = vol6 / 6.0;
+  if constexpr (kMoments)
+    for (int c = 0; c < 3; ++c) r.ref_first[c] = m[c] / 24.0;
   // Euler's formula for a simple polytope: F = V/2 + 2.
   return 2 * r.num_facets == n + 4;
 }

@@ -9,7 +9,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 
 #include "algorithm2.hpp"
 #include "barycentric_map.hpp"  // TETIA_KERNEL_SSE2
@@ -65,13 +64,8 @@ unsigned column_mask(const double (&C)[4][4]) {
 // Runs the kernel on a prepared frame. Returns false if the labels do not close up into a
 // simple polytope (see Kernel::run and build_facets); the result is then empty.
 // kFull: the result becomes a Polyhedron (weights, and the coordinate scale orient_facets uses).
-// measured: where the a priori error estimate does not certify the result (solve_with), the
-// polytope's geometry for the a posteriori one, its surface and permanents measured on the
-// walk over the facets (error_estimate.hpp); nullptr otherwise. Filled where the result has
-// corners and X is not inside Y (no estimate is needed then).
 template <bool kMoments, bool kFull>
-bool run_kernel(const Frame& fr, KernelResult& res, IntersectionStats* stats, PolytopeGeometry* measured = nullptr) {
-  const double(&C)[4][4] = fr.C;
+bool run_kernel(const double (&C)[4][4], KernelResult& res, IntersectionStats* stats) {
   // Kernel::run's first test (lines 2-6) ahead of the kernel: some plane of Y has no vertex of
   // X strictly on its positive side (which covers X on its negative side: C >= 0 implies
   // C > 0 fails only for zeros). The result is then empty, as run and build_facets leave it.
@@ -100,14 +94,7 @@ bool run_kernel(const Frame& fr, KernelResult& res, IntersectionStats* stats, Po
   // vertex of X means all four are).
   res.x_inside = res.num_corners == 4 && res.corners[3].kind == kVertexOfX;
   // Only a Polyhedron reads the facets and their fan volumes.
-  constexpr FacetMode kMode = kMoments ? kFacetsMoments : kFacetsVolume;
-  bool ok;
-  if (measured && res.num_corners > 0 && !res.x_inside) [[unlikely]] {
-    measured->measure(*fr.ref, res);
-    ok = build_facets<kMode, true, kFull, true>(res, measured->p, &measured->walked);
-  } else {
-    ok = build_facets<kMode, true, kFull>(res);
-  }
+  const bool ok = build_facets<kMoments ? kFacetsMoments : kFacetsVolume, true, kFull>(res);
   if (!ok) {
     res.set_empty();
     return false;
@@ -175,18 +162,13 @@ Outcome solve_with(const MakeFrame& make_frame, Frame& fr, KernelResult& res, In
     return status == FrameStatus::rescale ? Outcome::rescale : Outcome::exact;
   }
   if (stats && fr.swapped) ++stats->reference_swaps;
-  // The a priori estimate depends on the frame alone, and alike on both choices of the reference
-  // (error_estimate.hpp): where it does not certify, the kernel measures for the a posteriori one.
-  const bool a_priori = accuracy_certified(fr);
-  std::optional<PolytopeGeometry> geometry;  // made only where needed (832 bytes to initialize)
-  PolytopeGeometry* const measured = a_priori ? nullptr : &geometry.emplace();
-  bool ok = run_kernel<kMoments, kFull>(fr, res, stats, measured);
+  bool ok = run_kernel<kMoments, kFull>(fr.C, res, stats);
   if (!ok) [[unlikely]] {
     if (stats) {
       ++stats->inconsistencies;
       ++stats->retries;
     }
-    ok = make_frame(fr, true) == FrameStatus::ok && run_kernel<kMoments, kFull>(fr, res, stats, measured);
+    ok = make_frame(fr, true) == FrameStatus::ok && run_kernel<kMoments, kFull>(fr.C, res, stats);
     if (!ok) {
       if (stats) ++stats->inconsistencies;
       res.set_empty();
@@ -201,7 +183,7 @@ Outcome solve_with(const MakeFrame& make_frame, Frame& fr, KernelResult& res, In
   // the smaller tetrahedron (X across a face of a much bigger Y, within its rounding) has no
   // corners to show for it: exact then; below that, empty is within the accuracy promised.
   if (res.num_corners == 0) {
-    if (res.certainly_empty || a_priori) return Outcome::empty;
+    if (res.certainly_empty || accuracy_certified(fr)) return Outcome::empty;
     if (stats) ++stats->refined;
     const double smaller = std::min(std::abs(fr.det6), std::abs(fr.det6_sub)) * (1.0 / 6.0);
     if (!refine<false>(fr, res) || !(res.refined_moments.volume <= 1e-12 * smaller)) return Outcome::exact;
@@ -218,7 +200,7 @@ Outcome solve_with(const MakeFrame& make_frame, Frame& fr, KernelResult& res, In
       if (stats) ++stats->refined;
       if (!refine_inside(fr, res)) return Outcome::exact;
     }
-  } else if (!a_priori && !accuracy_certified_a_posteriori(fr, res, *geometry)) [[unlikely]] {
+  } else if (!accuracy_certified(fr) && !accuracy_certified_a_posteriori(fr, res)) [[unlikely]] {
     if (stats) ++stats->refined;
     if (!refine<kMoments>(fr, res)) return Outcome::exact;
   }

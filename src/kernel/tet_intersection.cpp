@@ -190,8 +190,7 @@ KernelEstimate kernel_estimate(const Tet& U, const Tet& V) {
   Frame fr;
   KernelResult res;
   if (make_frame(U, V, fr) != FrameStatus::ok || fr.flat_to_rounding) return e;
-  PolytopeGeometry g;
-  if (!run_kernel<false, false>(fr, res, nullptr, &g)) return e;
+  if (!run_kernel<false, false>(fr.C, res, nullptr)) return e;
   e.ran = true;
   e.x_inside = res.x_inside;
   e.empty = res.num_corners == 0;
@@ -199,7 +198,7 @@ KernelEstimate kernel_estimate(const Tet& U, const Tet& V) {
   e.a_priori = a_priori_estimate(fr);
   e.estimate = e.a_priori;
   if (res.num_corners > 0 && !res.x_inside && a_posteriori_worthwhile(fr, res))
-    e.estimate = std::min(e.estimate, a_posteriori_estimate(fr, res, g));
+    e.estimate = std::min(e.estimate, a_posteriori_estimate(fr, res));
   e.snapped = has_zero_coordinate(fr.C);
   return e;
 }
