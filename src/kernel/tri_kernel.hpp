@@ -562,6 +562,8 @@ struct Frame {
 // the coordinates are those the kernel computed; in the frame of X (the subject) every corner
 // that lies on X is known there exactly or as the one weight t along an edge of X, and only a
 // vertex of Y inside X needs a change of coordinates.
+// kMoments: the first moments too, and every corner's coordinates in Y (a Polygon's); without,
+// the area alone, and a crossing's coordinates in Y only where the area is measured there.
 template <bool kMoments>
 void corner_coordinates(const Frame& fr, KernelResult& r, TriIntersectionStats* stats) {
   const auto& C = fr.C;
@@ -616,6 +618,14 @@ void corner_coordinates(const Frame& fr, KernelResult& r, TriIntersectionStats* 
         if (stats) ++stats->refined;
       }
       const double den = ci - cj;
+      if constexpr (!kMoments) {
+        // The area alone (intersection_area), measured in X's frame: from the weight alone (the
+        // coordinates in Y, which only a Polygon and the moments read, are not made).
+        if (sub_frame) {
+          k.weight_b = ci / den;
+          continue;
+        }
+      }
       const double t = ci / den;  // in [0, 1]: ci and -cj have the same sign
       double v1 = (ci * C[j][q1] - cj * C[i][q1]) / den;
       double v2 = (ci * C[j][q2] - cj * C[i][q2]) / den;
