@@ -253,8 +253,28 @@ class Kernel {
   // them and the ends' signs is looked up (kEdgeTable, which edge_signs_from_pairs computes).
   bool decide_edge_by_pairs(int e) {
     const int i = kEdgeFrom[e], j = kEdgeTo[e];
-    const unsigned pairs = unsigned(crosses_before(i, j, 1, 0)) | unsigned(crosses_before(i, j, 2, 0)) << 1 |
-                           unsigned(crosses_before(i, j, 2, 1)) << 2;
+    unsigned pairs;
+    if (geo_.careful) [[unlikely]] {
+      pairs = unsigned(crosses_before(i, j, 1, 0)) | unsigned(crosses_before(i, j, 2, 0)) << 1 |
+              unsigned(crosses_before(i, j, 2, 1)) << 2;
+    } else {
+      // crosses_before(i, j, y, x) for (y, x) = (1, 0), (2, 0), (2, 1), side by side: the
+      // numerators (the same products and differences), and bit k of `positive` and `zero`
+      // their signs; den_positive is bit y of si, and the result is compared with bit x.
+      const double* a = C_[i];
+      const double* b = C_[j];
+      const double num[3] = {b[0] * a[1] - a[0] * b[1], b[0] * a[2] - a[0] * b[2], b[1] * a[2] - a[1] * b[2]};
+      unsigned positive = 0, zero = 0;
+      for (int k = 0; k < 3; ++k) {
+        positive |= unsigned(num[k] > 0.0) << k;
+        zero |= unsigned(num[k] == 0.0) << k;
+      }
+      const unsigned si = sm_[i];
+      const unsigned den_positive = (si >> 1 & 1u) | (si >> 2 & 1u) * 6u;  // bits y = 1, 2, 2
+      const unsigned x_sign = (si & 1u) * 3u | (si >> 1 & 1u) << 2;          // bits x = 0, 0, 1
+      const unsigned sign_x = zero | (~(positive ^ den_positive) & 7u);
+      pairs = ~(sign_x ^ x_sign) & 7u;
+    }
     const unsigned entry = kEdgeTable[sm_[i] | unsigned(sm_[j]) << 3 | pairs << 6];
     cm_[e][0] = static_cast<u8>(entry & 7u);
     cm_[e][1] = static_cast<u8>(entry >> 3 & 7u);
