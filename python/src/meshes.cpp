@@ -187,7 +187,7 @@ MeshHandle read(const std::filesystem::path& file, bool corner_nodes) {
 /// cannot take (values on boundary elements only, a node without a value, a bad line) is left
 /// out with a warning that names it and says why: the mesh itself reads as without its fields.
 /// One pass over the file for the list, one per field.
-py::tuple read_data(const std::filesystem::path& file) {
+py::tuple read_data(const std::filesystem::path& file, bool corner_nodes) {
   struct Read {
     std::string name;
     bool on_cells;
@@ -198,11 +198,13 @@ py::tuple read_data(const std::filesystem::path& file) {
   std::vector<std::string> skipped;
   try {
     py::gil_scoped_release release;
+    MeshReadOptions options;  // the mesh's, as read() reads it
+    options.corner_nodes = corner_nodes;
     for (const FieldInfo& info : msh_fields(file)) {
       if (info.on_cell_nodes || info.steps.empty()) continue;
       Read r{info.name, info.on_cells, 1, {}};
       try {
-        r.values = read_msh_field(file, info.name, info.on_cells, info.steps.back(), &r.components);
+        r.values = read_msh_field(file, info.name, info.on_cells, info.steps.back(), &r.components, options);
       } catch (const std::bad_alloc&) {
         throw;
       } catch (const std::exception& e) {
@@ -268,7 +270,7 @@ void bind_meshes(py::module_& m) {
         "or make_tri_mesh by the cells' dimension). ValueError for bad arrays.");
   m.def("read_msh", &read, py::arg("path"), py::arg("corner_nodes") = false,
         "A mesh read from a Gmsh .msh file by tetia's reader (tetia::read_any_mesh). OSError if it cannot be read.");
-  m.def("read_msh_data", &read_data, py::arg("path"),
+  m.def("read_msh_data", &read_data, py::arg("path"), py::arg("corner_nodes") = false,
         "(point_data, cell_data): the node data and element data of a .msh file, in the order of read_msh's nodes "
         "and cells; a field with several time steps at its last one; element-node data left out; a field the mesh "
         "cannot take left out with a UserWarning. OSError if the file cannot be read.");

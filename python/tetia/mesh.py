@@ -236,16 +236,18 @@ def read_mesh(path, corner_nodes=False):
     reader (nodes in the order of their tags, cells in that of their element tags; boundary and
     other elements ignored), its node data and element data in point_data and cell_data ((n,)
     arrays for scalars, (n, components) otherwise; a field with several time steps at its last
-    one; element-node data left out); any other format meshio reads (VTU, XDMF, Exodus, MED,
-    ...) through meshio and Mesh.from_meshio, with its point_data and cell_data. Raises OSError (FileNotFoundError if it does not exist) with a
-    message naming the file, and the line, element or cell where there is one."""
+    one; element-node data, and a field the mesh cannot take, such as data on boundary elements
+    only, left out, the latter with a UserWarning); any other format meshio reads (VTU, XDMF,
+    Exodus, MED, ...) through meshio and Mesh.from_meshio, with its point_data and cell_data.
+    Raises OSError (FileNotFoundError if it does not exist) with a message naming the file, and
+    the line, element or cell where there is one."""
     path = os.fspath(path)
     if not os.path.exists(path):
         raise FileNotFoundError(2, "tetia: no such file", path)
     if path.lower().endswith(".msh"):
         handle = _tetia.read_msh(path, corner_nodes)
         cells = [(MESHIO_NAME[t], a) for t, a in handle.file_cell_blocks()]
-        point_data, cell_data = _tetia.read_msh_data(path)
+        point_data, cell_data = _tetia.read_msh_data(path, corner_nodes)
         return Mesh._wrap(handle, handle.nodes, cells, point_data=point_data, cell_data=cell_data)
     m = _meshio_read(path)
     try:
