@@ -122,7 +122,7 @@ bool facets_by_label_walk(KernelResult& r) {
 // units: `points`, the corners relative to the reference's vertex 0), over every facet, and the
 // sum of the permanents of the fans' triple products, relative to corner 0 (their apex), over
 // the facets not through corner 0 (the others contribute exactly 0). The triangles are those of
-// the volume's fans, walked once for both.
+// the volume's fans.
 struct FacetMeasures {
   double surface2 = 0.0;
   double permanents = 0.0;
