@@ -372,6 +372,12 @@ TEST(Supermesh, ThreadsGiveIdenticalResultsOnALargerMesh) {
   EXPECT_TRUE(bitwise_equal(f1.pieces, f0.pieces));
   EXPECT_EQ(f1.candidates, f3.candidates);
   EXPECT_LT(f1.candidates, r1.candidates);
+  // Sorted by (target, source), one piece per pair of cells.
+  for (std::size_t k = 1; k < f1.pieces.size(); ++k) {
+    const auto& a = f1.pieces[k - 1];
+    const auto& b = f1.pieces[k];
+    ASSERT_TRUE(a.target < b.target || (a.target == b.target && a.source < b.source)) << "pieces " << k - 1 << ", " << k;
+  }
   const double want = (1 - 0.3 * h) * (1 - 0.2 * h) * (1 - 0.1 * h);
   EXPECT_NEAR(f1.intersection_volume(), want, 1e-13);
   // Every source cell inside the overlap is covered exactly.

@@ -124,7 +124,6 @@
 #include "mixed_mass.hpp"
 #include "../compensated_sum.hpp"
 #include "../morton.hpp"
-#include "../permute.hpp"
 #include "tetia/tet_intersection.hpp"
 #include "tetia/tri_intersection.hpp"
 
@@ -303,6 +302,22 @@ void reserve_huge(std::vector<T>& v, std::size_t n) {
   advise_huge_pages(w.data(), n * sizeof(T));
   w.insert(w.end(), v.begin(), v.end());
   v.swap(w);
+}
+
+// reserve_huge for an array about to be filled by `threads` threads: each page of the storage
+// is first touched by the thread of a static schedule over it, so that the page faults of
+// hundreds of MB (about 2 s for 0.8 GB on one thread of the development VM: a third of the
+// 10^6-cell boxes' merge, and most of the records' time before the search) are taken on every
+// thread; resize() then writes mapped memory. Only storage where no element lives yet (past
+// size()) is written, as bytes.
+template <class T>
+void reserve_touched(std::vector<T>& v, std::size_t n, int threads) {
+  reserve_huge(v, n);
+  if (n * sizeof(T) < (std::size_t{4} << 20)) return;
+  unsigned char* bytes = reinterpret_cast<unsigned char*>(v.data()) + v.size() * sizeof(T);
+  const auto pages = static_cast<std::int64_t>((n - v.size()) * sizeof(T) / 4096);
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (std::int64_t k = 0; k < pages; ++k) bytes[static_cast<std::size_t>(k) * 4096] = 0;
 }
 
 template <class T>
@@ -770,9 +785,10 @@ class Worker {
 };
 
 // The cells of a mesh by the Morton code of their centroids (63 / d bits per axis, 21 in 3D
-// and 31 in 2D) in the bounding box of the mesh's nodes; `rank` is its inverse.
+// and 31 in 2D) in the bounding box of the mesh's nodes; `rank` is its inverse. The codes are
+// computed on `threads` threads (each reads its cell's nodes: cache misses in a file's order).
 template <class Mesh>
-void morton_order(const Mesh& mesh, std::vector<std::int32_t>& order, std::vector<std::int32_t>& rank) {
+void morton_order(const Mesh& mesh, std::vector<std::int32_t>& order, std::vector<std::int32_t>& rank, int threads) {
   using Dm = detail::Dim<Mesh>;
   constexpr int d = Dm::d;
   const std::size_t ns = mesh.num_cells();
@@ -785,7 +801,10 @@ void morton_order(const Mesh& mesh, std::vector<std::int32_t>& order, std::vecto
       all.hi[k] = all.hi[k] < x ? x : all.hi[k];
     }
   std::vector<std::pair<std::uint64_t, std::int32_t>> keys(ns);
-  for (std::size_t c = 0; c < ns; ++c) {
+  const auto ns_i = static_cast<std::int64_t>(ns);
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (std::int64_t i = 0; i < ns_i; ++i) {
+    const auto c = static_cast<std::size_t>(i);
     const auto t = mesh.cell(c);
     double centre[d];
     for (int k = 0; k < d; ++k) {
@@ -798,9 +817,11 @@ void morton_order(const Mesh& mesh, std::vector<std::int32_t>& order, std::vecto
   detail::sort_by_key(keys);
   order.resize(ns);
   rank.resize(ns);
-  for (std::size_t i = 0; i < ns; ++i) {
-    order[i] = keys[i].second;
-    rank[static_cast<std::size_t>(keys[i].second)] = static_cast<std::int32_t>(i);
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (std::int64_t i = 0; i < ns_i; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    order[k] = keys[k].second;
+    rank[static_cast<std::size_t>(keys[k].second)] = static_cast<std::int32_t>(i);
   }
 }
 
@@ -823,12 +844,16 @@ typename detail::Dim<Mesh>::Result build(
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
 
   // The target records in Morton order, and the R-tree (packed: bulk loading) of their boxes.
-  std::vector<TargetCell<Mesh>> targets(nt);
-  std::vector<typename TreeT::Value> values(nt);
+  std::vector<TargetCell<Mesh>> targets;
+  std::vector<typename TreeT::Value> values;
+  reserve_touched(targets, nt, threads);
+  reserve_touched(values, nt, threads);
+  targets.resize(nt);
+  values.resize(nt);
   const auto nt_i = static_cast<std::int64_t>(nt);
   {
     std::vector<std::int32_t> torder, trank;
-    morton_order(target, torder, trank);
+    morton_order(target, torder, trank, threads);
     const auto& target_measures = Dm::measures(target);
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (std::int64_t i = 0; i < nt_i; ++i) {
@@ -863,11 +888,13 @@ typename detail::Dim<Mesh>::Result build(
   // that a chunk is a compact region whatever the file's numbering (Gmsh numbers cells in no
   // spatial order; with chunks of consecutive indices the front then degenerates into R-tree
   // queries). The order depends on the mesh only: results stay identical for any thread count.
-  std::vector<SourceCell<Mesh>> sources(ns);
+  std::vector<SourceCell<Mesh>> sources;
+  reserve_touched(sources, ns, threads);
+  sources.resize(ns);
   std::vector<std::int32_t> source_position;  // of each source cell in that order
   {
     std::vector<std::int32_t> order;
-    morton_order(source, order, source_position);
+    morton_order(source, order, source_position, threads);
     const auto ns_i = static_cast<std::int64_t>(ns);
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (std::int64_t i = 0; i < ns_i; ++i) {
@@ -935,116 +962,95 @@ typename detail::Dim<Mesh>::Result build(
     if (w && w->error()) std::rethrow_exception(w->error());
   if (options.progress) options.progress(ns, ns);
 
-  // The merge, sorted by (target, source): a counting sort by target whose input is read in
-  // the order of the source cells' indices (each source cell's pieces are consecutive in its
-  // worker's storage), so that every target's pieces come out sorted by source. Pieces name
-  // their cells by their positions among the records until here. The pieces alone are copied
-  // directly; with polyhedra or local mixed mass matrices references are placed first, so
-  // that all three are copied once; a consumer is handed the pieces through the references.
-  const auto target_id = [&](const typename Dm::Piece& p) { return targets[static_cast<std::size_t>(p.target)].id; };
-  std::vector<std::size_t> offset(nt + 1, 0);
+  // The merge, sorted by (target, source), in parallel and reading each thread's storage in
+  // order: (1) every piece gets its cells' indices in place and is counted for its target,
+  // (2) a reference to it (its source's index and its number among all pieces, 8 B) is put in
+  // its target's range, (3) each target's range is sorted by source, (4) the pieces (and their
+  // polyhedra, local mixed mass matrices) are copied in that order, or handed to the consumer.
+  // A piece is the only one of its pair of cells, so the order does not depend on the threads.
+  // The in-place permutation this replaces followed the permutation's cycles on one thread,
+  // one cache miss after another: 7 s of the 13.6 s of the 10^6-cell boxes on two threads.
   std::size_t total = 0;
-  for (const Chunk& ch : chunks) {
-    out.candidates += ch.candidates;
-    total += ch.last - ch.first;
-    const auto& pcs = workers[static_cast<std::size_t>(ch.worker)]->pieces();
-    for (std::size_t i = ch.first; i < ch.last; ++i) ++offset[static_cast<std::size_t>(target_id(pcs[i])) + 1];
+  std::vector<std::size_t> base(workers.size() + 1, 0);  // of each thread's pieces, numbered together
+  for (const Chunk& ch : chunks) out.candidates += ch.candidates;
+  for (std::size_t w = 0; w < workers.size(); ++w) {
+    base[w + 1] = base[w] + (workers[w] ? workers[w]->pieces().size() : 0);
+    if (workers[w]) total += workers[w]->pieces().size();
   }
-  for (std::size_t t = 0; t < nt; ++t) offset[t + 1] += offset[t];
-  // Calls place(source index, worker, index in its storage) for every piece, by source index.
-  const auto for_each_piece_by_source = [&](auto&& place) {
-    for (std::size_t id = 0; id < ns; ++id) {
-      const std::int32_t p = source_position[id];
-      // The chunk holding position p: chunks[c].begin = ns * c / nchunks (rounded down).
-      std::size_t c = static_cast<std::size_t>(p) * nchunks / ns;
-      while (c + 1 < nchunks && chunks[c + 1].begin <= p) ++c;
-      const int w = chunks[c].worker;
-      const std::size_t b = piece_begin[static_cast<std::size_t>(p)];
-      for (std::size_t i = b; i < b + piece_count[static_cast<std::size_t>(p)]; ++i) place(id, w, i);
+  if (total > std::numeric_limits<std::uint32_t>::max())
+    throw std::length_error("tetia: supermesh: more than 2^32 - 1 pieces");
+  std::vector<std::uint32_t> offset(nt + 1, 0);  // offset[t + 1]: first the count of target t's pieces
+  const auto for_each_chunk = [&](auto&& visit) {  // visit(piece, its number), every piece, chunks in parallel
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (std::int64_t c = 0; c < nchunks_i; ++c) {
+      const Chunk& ch = chunks[static_cast<std::size_t>(c)];
+      auto& pcs = workers[static_cast<std::size_t>(ch.worker)]->pieces();
+      for (std::size_t i = ch.first; i < ch.last; ++i)
+        visit(pcs[i], static_cast<std::uint32_t>(base[static_cast<std::size_t>(ch.worker)] + i));
     }
   };
-  std::vector<std::size_t> pos(offset.begin(), offset.end() - 1);
-  if (!consumer && !options.keep_polyhedra && !options.keep_mixed_mass) {
-    // In place: the storage of the thread with the most pieces becomes the result (its pages
-    // are touched already), the others' pieces are appended, and every piece is moved to its
-    // place by following the cycles of the permutation, with 4 B per piece for the places.
-    // Copying every piece (40 B) to fresh memory instead touched as much again, page by page,
-    // which cost the development VM a tenth of the call (its page faults are slow).
-    if (total > std::numeric_limits<std::uint32_t>::max())
-      throw std::length_error("tetia: supermesh: more than 2^32 pieces");
-    std::size_t big = 0;
-    for (std::size_t w = 1; w < workers.size(); ++w)
-      if (workers[w] && (!workers[big] || workers[w]->pieces().size() > workers[big]->pieces().size())) big = w;
-    std::vector<std::size_t> base(workers.size(), 0);  // of each thread's pieces in the result
-    std::size_t next = workers[big] ? workers[big]->pieces().size() : 0;
-    for (std::size_t w = 0; w < workers.size(); ++w)
-      if (w != big && workers[w]) base[w] = std::exchange(next, next + workers[w]->pieces().size());
-    std::vector<std::uint32_t> place(total);
-    for_each_piece_by_source([&](std::size_t id, int w, std::size_t i) {
-      typename Dm::Piece& piece = workers[static_cast<std::size_t>(w)]->pieces()[i];
-      piece.target = target_id(piece);
-      piece.source = static_cast<std::int32_t>(id);
-      place[base[static_cast<std::size_t>(w)] + i] = static_cast<std::uint32_t>(pos[static_cast<std::size_t>(piece.target)]++);
-    });
-    if (workers[big]) out.pieces = std::move(workers[big]->pieces());
-    for (std::size_t w = 0; w < workers.size(); ++w)
-      if (w != big && workers[w]) {
-        auto& pcs = workers[w]->pieces();
-        out.pieces.insert(out.pieces.end(), pcs.begin(), pcs.end());
-        pcs = {};
-      }
-    detail::permute_to(place, [&](std::size_t i, std::size_t j) { std::swap(out.pieces[i], out.pieces[j]); });
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return out;
-  }
-  // 8 B a piece: the source cell's index is that of the piece's position (sources[p].id).
-  struct Ref {
-    std::uint32_t index;  // in its worker's storage
-    std::int32_t worker;
-  };
-  for (const auto& w : workers)
-    if (w && w->pieces().size() > std::numeric_limits<std::uint32_t>::max())
-      throw std::length_error("tetia: supermesh: more than 2^32 pieces on one thread");
-  std::vector<Ref> refs;
-  reserve_huge(refs, total);
-  refs.resize(total);
-  for_each_piece_by_source([&](std::size_t, int w, std::size_t i) {
-    refs[pos[static_cast<std::size_t>(target_id(workers[static_cast<std::size_t>(w)]->pieces()[i]))]++] =
-        Ref{static_cast<std::uint32_t>(i), w};
-  });
-  const auto piece_of = [&](const Ref& r) {  // with its cells' indices
-    typename Dm::Piece piece = workers[static_cast<std::size_t>(r.worker)]->pieces()[r.index];
+  for_each_chunk([&](typename Dm::Piece& piece, std::uint32_t) {
     piece.source = sources[static_cast<std::size_t>(piece.source)].id;
-    piece.target = target_id(piece);
-    return piece;
+    piece.target = targets[static_cast<std::size_t>(piece.target)].id;
+    std::atomic_ref<std::uint32_t>(offset[static_cast<std::size_t>(piece.target) + 1]).fetch_add(1, std::memory_order_relaxed);
+  });
+  for (std::size_t t = 0; t < nt; ++t) offset[t + 1] += offset[t];
+  struct Ref {
+    std::int32_t source;  // the piece's source cell
+    std::uint32_t piece;  // its number: base[w] + its index in thread w's storage
+  };
+  std::vector<Ref> refs;
+  {
+    std::vector<std::uint32_t> next(offset.begin(), offset.end() - 1);
+    reserve_touched(refs, total, threads);
+    refs.resize(total);
+    for_each_chunk([&](const typename Dm::Piece& piece, std::uint32_t number) {
+      const std::uint32_t k =
+          std::atomic_ref<std::uint32_t>(next[static_cast<std::size_t>(piece.target)]).fetch_add(1, std::memory_order_relaxed);
+      refs[k] = Ref{piece.source, number};
+    });
+  }
+#pragma omp parallel for schedule(dynamic, 4096) num_threads(threads)
+  for (std::int64_t t = 0; t < nt_i; ++t)
+    std::sort(refs.begin() + offset[static_cast<std::size_t>(t)], refs.begin() + offset[static_cast<std::size_t>(t) + 1],
+              [](const Ref& a, const Ref& b) { return a.source < b.source; });
+  offset = {};
+  const auto worker_of = [&](const Ref& r) {  // the thread whose storage holds r's piece, and its index there
+    std::size_t w = 0;
+    while (base[w + 1] <= r.piece) ++w;
+    return std::pair<Worker<Mesh>&, std::size_t>(*workers[w], r.piece - base[w]);
   };
   if (consumer) {  // handed over in (target, source) order, from this thread; nothing kept
-    for (const Ref& r : refs)
-      consumer->consume(piece_of(r),
-                        values_per_piece != 0 ? workers[static_cast<std::size_t>(r.worker)]->values(r.index) : nullptr);
+    for (const Ref& r : refs) {
+      const auto [w, i] = worker_of(r);
+      consumer->consume(w.pieces()[i], values_per_piece != 0 ? w.values(i) : nullptr);
+    }
     if (pieces_handed) *pieces_handed = total;
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;
   }
-  reserve_huge(out.pieces, total);
+  reserve_touched(out.pieces, total, threads);
   out.pieces.resize(total);
   auto& mass = Dm::local_mass(out);
   if (options.keep_mixed_mass) {
-    reserve_huge(mass, total);
+    reserve_touched(mass, total, threads);
     mass.resize(total);
   }
   const bool gather_mass = options.keep_mixed_mass;
   const auto total_i = static_cast<std::int64_t>(total);
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::int64_t k = 0; k < total_i; ++k) {
-    const Ref& r = refs[static_cast<std::size_t>(k)];
-    out.pieces[static_cast<std::size_t>(k)] = piece_of(r);
-    if (gather_mass) mass[static_cast<std::size_t>(k)] = workers[static_cast<std::size_t>(r.worker)]->local_mass()[r.index];
+    const auto [w, i] = worker_of(refs[static_cast<std::size_t>(k)]);
+    out.pieces[static_cast<std::size_t>(k)] = w.pieces()[i];
+    if (gather_mass) mass[static_cast<std::size_t>(k)] = w.local_mass()[i];
   }
   if (options.keep_polyhedra) {
     auto& shapes = Dm::shapes(out);
     reserve_huge(shapes, total);
-    for (const Ref& r : refs) shapes.push_back(workers[static_cast<std::size_t>(r.worker)]->shapes()[r.index]);
+    for (const Ref& r : refs) {
+      const auto [w, i] = worker_of(r);
+      shapes.push_back(w.shapes()[i]);
+    }
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
