@@ -320,6 +320,32 @@ void reserve_touched(std::vector<T>& v, std::size_t n, int threads) {
   for (std::int64_t k = 0; k < pages; ++k) bytes[static_cast<std::size_t>(k) * 4096] = 0;
 }
 
+// Adds one to c and returns its value before: a relaxed atomic increment where other threads
+// may add to c at the same time (a locked instruction, kept off the one-thread path).
+inline std::uint32_t fetch_increment(std::uint32_t& c, bool concurrent) {
+  return concurrent ? std::atomic_ref<std::uint32_t>(c).fetch_add(1, std::memory_order_relaxed) : c++;
+}
+
+// Sorts [b, e) by `less`: by insertion where it is short (a target's pieces: 5 to 20 in the
+// benchmarks), by std::sort otherwise. An element already in order costs one comparison.
+template <class It, class Less>
+void sort_small(It b, It e, Less less) {
+  if (e - b > 32) {
+    std::sort(b, e, less);
+    return;
+  }
+  for (It i = b + (b != e); i < e; ++i) {
+    if (!less(*i, *(i - 1))) continue;
+    const auto x = *i;
+    It j = i;
+    do {
+      *j = *(j - 1);
+      --j;
+    } while (j != b && less(x, *(j - 1)));
+    *j = x;
+  }
+}
+
 template <class T>
 void reserve_for_one_more(std::vector<T>& v) {
   if (v.size() == v.capacity()) reserve_huge(v, std::max<std::size_t>(1024, 2 * v.capacity()));
@@ -412,6 +438,10 @@ struct Shared {
   std::vector<std::int32_t>& parent;
   std::vector<std::size_t>& piece_begin;  // into its worker's pieces
   std::vector<std::size_t>& piece_count;
+  // Per target (position): its pieces found so far, on any thread (fetch_increment), so that the
+  // merge knows where each target's pieces go.
+  std::vector<std::uint32_t>& target_pieces;
+  bool concurrent;  // more than one thread
 };
 
 // Per-thread work space, reused across chunks and cells. The pieces (and polyhedra, local mixed
@@ -554,6 +584,7 @@ class Worker {
     }
     reserve_for_one_more(pieces_);
     pieces_.push_back(Dm::piece(s, t, m));
+    fetch_increment(sh_.target_pieces[static_cast<std::size_t>(t)], sh_.concurrent);
     covered_ += Dm::measure(m);
     return true;
   }
@@ -911,9 +942,11 @@ typename detail::Dim<Mesh>::Result build(
   std::vector<std::uint8_t> state(ns, 0);
   std::vector<std::int32_t> parent(ns, -1);
   std::vector<std::size_t> piece_begin(ns, 0), piece_count(ns, 0);
+  std::vector<std::uint32_t> target_pieces(nt, 0);
   const std::size_t values_per_piece = consumer ? consumer->values_per_piece() : 0;
   const Shared<Mesh> sh{source,    target, tree,  TreeT::box(tree.bounds()), options.keep_polyhedra, options.keep_mixed_mass,
-                        consumer,  values_per_piece, targets, sources, state, parent, piece_begin, piece_count};
+                        consumer,  values_per_piece, targets, sources, state, parent, piece_begin, piece_count,
+                        target_pieces, threads > 1};
 
   // Chunks of consecutive positions in that order; their number depends on the mesh only.
   constexpr std::size_t kChunkCells = 4096;
@@ -962,14 +995,14 @@ typename detail::Dim<Mesh>::Result build(
     if (w && w->error()) std::rethrow_exception(w->error());
   if (options.progress) options.progress(ns, ns);
 
-  // The merge, sorted by (target, source), in parallel and reading each thread's storage in
-  // order: (1) every piece gets its cells' indices in place and is counted for its target,
-  // (2) a reference to it (its source's index and its number among all pieces, 8 B) is put in
-  // its target's range, (3) each target's range is sorted by source, (4) the pieces (and their
-  // polyhedra, local mixed mass matrices) are copied in that order, or handed to the consumer.
-  // A piece is the only one of its pair of cells, so the order does not depend on the threads.
-  // The in-place permutation this replaces followed the permutation's cycles on one thread,
-  // one cache miss after another: 7 s of the 13.6 s of the 10^6-cell boxes on two threads.
+  // The merge, sorted by (target, source), in parallel, reading each thread's storage once and
+  // in order. Each target's pieces were counted as they were found, so its range in the result
+  // is known; every piece then gets its cells' indices and is put in its target's range (at the
+  // range's next place, fetch_increment): the piece itself where only the pieces are
+  // kept, otherwise an 8 B reference to it (its source's index, its number among all pieces),
+  // through which the polyhedra, local mixed mass matrices or consumer's numbers follow. Each
+  // range is then sorted by source. A piece is the only one of its pair of cells, so the order
+  // does not depend on the threads that found the pieces.
   std::size_t total = 0;
   std::vector<std::size_t> base(workers.size() + 1, 0);  // of each thread's pieces, numbered together
   for (const Chunk& ch : chunks) out.candidates += ch.candidates;
@@ -979,42 +1012,50 @@ typename detail::Dim<Mesh>::Result build(
   }
   if (total > std::numeric_limits<std::uint32_t>::max())
     throw std::length_error("tetia: supermesh: more than 2^32 - 1 pieces");
-  std::vector<std::uint32_t> offset(nt + 1, 0);  // offset[t + 1]: first the count of target t's pieces
-  const auto for_each_chunk = [&](auto&& visit) {  // visit(piece, its number), every piece, chunks in parallel
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (std::int64_t c = 0; c < nchunks_i; ++c) {
-      const Chunk& ch = chunks[static_cast<std::size_t>(c)];
-      auto& pcs = workers[static_cast<std::size_t>(ch.worker)]->pieces();
-      for (std::size_t i = ch.first; i < ch.last; ++i)
-        visit(pcs[i], static_cast<std::uint32_t>(base[static_cast<std::size_t>(ch.worker)] + i));
-    }
-  };
-  for_each_chunk([&](typename Dm::Piece& piece, std::uint32_t) {
-    piece.source = sources[static_cast<std::size_t>(piece.source)].id;
-    piece.target = targets[static_cast<std::size_t>(piece.target)].id;
-    std::atomic_ref<std::uint32_t>(offset[static_cast<std::size_t>(piece.target) + 1]).fetch_add(1, std::memory_order_relaxed);
-  });
+  std::vector<std::uint32_t> offset(nt + 1, 0);  // of target t's (by index) pieces in the result
+  for (std::size_t t = 0; t < nt; ++t) offset[static_cast<std::size_t>(targets[t].id) + 1] = target_pieces[t];
   for (std::size_t t = 0; t < nt; ++t) offset[t + 1] += offset[t];
+  for (std::size_t t = 0; t < nt; ++t) target_pieces[t] = offset[static_cast<std::size_t>(targets[t].id)];  // next place
+  const bool refer = consumer || options.keep_polyhedra || options.keep_mixed_mass;
   struct Ref {
     std::int32_t source;  // the piece's source cell
     std::uint32_t piece;  // its number: base[w] + its index in thread w's storage
   };
   std::vector<Ref> refs;
-  {
-    std::vector<std::uint32_t> next(offset.begin(), offset.end() - 1);
+  if (refer) {
     reserve_touched(refs, total, threads);
     refs.resize(total);
-    for_each_chunk([&](const typename Dm::Piece& piece, std::uint32_t number) {
-      const std::uint32_t k =
-          std::atomic_ref<std::uint32_t>(next[static_cast<std::size_t>(piece.target)]).fetch_add(1, std::memory_order_relaxed);
-      refs[k] = Ref{piece.source, number};
-    });
+  } else {
+    reserve_touched(out.pieces, total, threads);
+    out.pieces.resize(total);
   }
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (std::int64_t c = 0; c < nchunks_i; ++c) {
+    const Chunk& ch = chunks[static_cast<std::size_t>(c)];
+    auto& pcs = workers[static_cast<std::size_t>(ch.worker)]->pieces();
+    for (std::size_t i = ch.first; i < ch.last; ++i) {
+      typename Dm::Piece& piece = pcs[i];
+      const auto t = static_cast<std::size_t>(piece.target);
+      const std::uint32_t k = fetch_increment(target_pieces[t], threads > 1);
+      piece.source = sources[static_cast<std::size_t>(piece.source)].id;
+      piece.target = targets[t].id;
+      if (refer) refs[k] = Ref{piece.source, static_cast<std::uint32_t>(base[static_cast<std::size_t>(ch.worker)] + i)};
+      else out.pieces[k] = piece;
+    }
+  }
+  target_pieces = {};
+  const auto by_source = [](const auto& a, const auto& b) { return a.source < b.source; };
 #pragma omp parallel for schedule(dynamic, 4096) num_threads(threads)
-  for (std::int64_t t = 0; t < nt_i; ++t)
-    std::sort(refs.begin() + offset[static_cast<std::size_t>(t)], refs.begin() + offset[static_cast<std::size_t>(t) + 1],
-              [](const Ref& a, const Ref& b) { return a.source < b.source; });
+  for (std::int64_t t = 0; t < nt_i; ++t) {
+    const std::size_t b = offset[static_cast<std::size_t>(t)], e = offset[static_cast<std::size_t>(t) + 1];
+    if (refer) sort_small(refs.begin() + b, refs.begin() + e, by_source);
+    else sort_small(out.pieces.begin() + b, out.pieces.begin() + e, by_source);
+  }
   offset = {};
+  if (!refer) {
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return out;
+  }
   const auto worker_of = [&](const Ref& r) {  // the thread whose storage holds r's piece, and its index there
     std::size_t w = 0;
     while (base[w + 1] <= r.piece) ++w;
