@@ -10,6 +10,8 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <exception>
 #include <filesystem>
 #include <stdexcept>
@@ -186,7 +188,9 @@ MeshHandle read(const std::filesystem::path& file, bool corner_nodes) {
 /// has no place in either and is left out (the C++ read_msh_field reads it). A field the mesh
 /// cannot take (values on boundary elements only, a node without a value, a bad line) is left
 /// out with a warning that names it and says why: the mesh itself reads as without its fields.
-/// One pass over the file for the list, one per field.
+/// One pass over the file for the list, and one for each kind (node or element data) and step:
+/// the fields of a group are read together, with the mesh; one pass per field of a group where
+/// that fails, to tell which are left out.
 py::tuple read_data(const std::filesystem::path& file, bool corner_nodes) {
   struct Read {
     std::string name;
@@ -200,19 +204,54 @@ py::tuple read_data(const std::filesystem::path& file, bool corner_nodes) {
     py::gil_scoped_release release;
     MeshReadOptions options;  // the mesh's, as read() reads it
     options.corner_nodes = corner_nodes;
+    // Fields of one kind at one step are read together, in one pass with the mesh; where that
+    // fails (a field the mesh cannot take), that group's fields are read one by one, so that
+    // only the failing ones are left out.
+    struct Group {
+      bool on_cells;
+      std::int64_t step;
+      std::vector<std::string> names;
+    };
+    std::vector<Group> groups;
     for (const FieldInfo& info : msh_fields(file)) {
       if (info.on_cell_nodes || info.steps.empty()) continue;
-      Read r{info.name, info.on_cells, 1, {}};
+      const std::int64_t step = info.steps.back();
+      auto g = std::find_if(groups.begin(), groups.end(),
+                            [&](const Group& x) { return x.on_cells == info.on_cells && x.step == step; });
+      if (g == groups.end()) g = groups.insert(groups.end(), Group{info.on_cells, step, {}});
+      g->names.push_back(info.name);
+    }
+    for (const Group& g : groups) {
+      MeshReadOptions together = options;
+      together.fields = g.names;
+      together.fields_on_cells = g.on_cells;
+      together.step = g.step;
+      MeshReadInfo info;
+      bool read_together = true;
       try {
-        r.values = read_msh_field(file, info.name, info.on_cells, info.steps.back(), &r.components, options);
+        read_any_mesh(file, &info, together);
       } catch (const std::bad_alloc&) {
         throw;
-      } catch (const std::exception& e) {
-        skipped.push_back(std::string(e.what()) + "; " + (info.on_cells ? "element" : "node") + " data \"" +
-                          info.name + "\" left out");
+      } catch (const std::exception&) {
+        read_together = false;
+      }
+      if (read_together) {
+        for (Field& f : info.fields) fields.push_back(Read{f.name, g.on_cells, f.components, std::move(f.values)});
         continue;
       }
-      fields.push_back(std::move(r));
+      for (const std::string& name : g.names) {
+        Read r{name, g.on_cells, 1, {}};
+        try {
+          r.values = read_msh_field(file, name, g.on_cells, g.step, &r.components, options);
+        } catch (const std::bad_alloc&) {
+          throw;
+        } catch (const std::exception& e) {
+          skipped.push_back(std::string(e.what()) + "; " + (g.on_cells ? "element" : "node") + " data \"" + name +
+                            "\" left out");
+          continue;
+        }
+        fields.push_back(std::move(r));
+      }
     }
   } catch (const std::bad_alloc&) {
     throw;

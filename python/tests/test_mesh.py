@@ -198,15 +198,19 @@ def test_read_mesh_msh_data_at_the_last_time_step(tmp_path):
     path.write_text("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n"
                     "$EndNodes\n$Elements\n1\n1 4 0 1 2 3 4\n$EndElements\n"
                     + block.format(time=0.0, step=0, value=1.5) + block.format(time=1.0, step=1, value=2.5)
-                    + "$NodeData\n1\n\"q\"\n1\n0.0\n3\n0\n2\n4\n1 1 2\n2 3 4\n3 5 6\n4 7 8\n$EndNodeData\n")
+                    + "$NodeData\n1\n\"q\"\n1\n0.0\n3\n0\n2\n4\n1 1 2\n2 3 4\n3 5 6\n4 7 8\n$EndNodeData\n"
+                    + "$NodeData\n1\n\"r\"\n1\n0.0\n3\n0\n1\n4\n1 -1\n2 -2\n3 -3\n4 -4\n$EndNodeData\n")
     back = tetia.read_mesh(path)
     assert np.array_equal(back.cell_data["p"], [2.5])
     assert np.array_equal(back.point_data["q"], [[1, 2], [3, 4], [5, 6], [7, 8]])
+    assert np.array_equal(back.point_data["r"], [-1, -2, -3, -4])
     # a field without a value for every node: left out with a warning naming it, the rest read
+    # (r too, node data at the same step as q: the two are read together unless that fails)
     path.write_text(path.read_text().replace("4\n1 1 2\n", "3\n1 1 2\n").replace("4 7 8\n", ""))
     with pytest.warns(UserWarning, match='steps.msh: .*node.*; node data "q" left out'):
         back = tetia.read_mesh(path)
     assert "q" not in back.point_data and np.array_equal(back.cell_data["p"], [2.5])
+    assert np.array_equal(back.point_data["r"], [-1, -2, -3, -4])
 
 
 def test_read_mesh_msh_of_second_order_read_by_its_corners_keeps_its_fields(tmp_path):
