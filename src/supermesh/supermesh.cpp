@@ -306,10 +306,10 @@ void reserve_huge(std::vector<T>& v, std::size_t n) {
 
 // reserve_huge for an array about to be filled by `threads` threads: each page of the storage
 // is first touched by the thread of a static schedule over it, so that the page faults of
-// hundreds of MB (about 2 s for 0.8 GB on one thread of the development VM: a third of the
-// 10^6-cell boxes' merge, and most of the records' time before the search) are taken on every
-// thread; resize() then writes mapped memory. Only storage where no element lives yet (past
-// size()) is written, as bytes.
+// hundreds of MB are taken on every thread (about 2 s for 0.8 GB on one thread of the
+// development VM: the 10^6-cell boxes' result is 0.8 GB, their records 0.2 GB); resize() then
+// writes mapped memory. Only storage where no element lives yet (past size()) is written, as
+// bytes.
 template <class T>
 void reserve_touched(std::vector<T>& v, std::size_t n, int threads) {
   reserve_huge(v, n);
