@@ -1,5 +1,5 @@
 // src/permute.hpp -- an array (or arrays kept in step) put in a new order in place (internal to
-// the library: the supermesh's merge, the MPI exchange's pieces).
+// the library: the MPI exchange's pieces).
 //
 // Contract: permute_to(place, swap) moves the element at k to position place[k], for every k,
 // where `place` is a permutation of 0 .. n-1, by following its cycles: swap(i, j) exchanges the

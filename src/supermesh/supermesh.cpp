@@ -1003,13 +1003,11 @@ typename detail::Dim<Mesh>::Result build(
   // through which the polyhedra, local mixed mass matrices or consumer's numbers follow. Each
   // range is then sorted by source. A piece is the only one of its pair of cells, so the order
   // does not depend on the threads that found the pieces.
-  std::size_t total = 0;
   std::vector<std::size_t> base(workers.size() + 1, 0);  // of each thread's pieces, numbered together
   for (const Chunk& ch : chunks) out.candidates += ch.candidates;
-  for (std::size_t w = 0; w < workers.size(); ++w) {
+  for (std::size_t w = 0; w < workers.size(); ++w)
     base[w + 1] = base[w] + (workers[w] ? workers[w]->pieces().size() : 0);
-    if (workers[w]) total += workers[w]->pieces().size();
-  }
+  const std::size_t total = base.back();
   if (total > std::numeric_limits<std::uint32_t>::max())
     throw std::length_error("tetia: supermesh: more than 2^32 - 1 pieces");
   std::vector<std::uint32_t> offset(nt + 1, 0);  // of target t's (by index) pieces in the result
