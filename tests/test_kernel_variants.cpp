@@ -3,6 +3,8 @@
 // against the baseline's, on every test family of each kernel (random, degenerate, slivers, size
 // ratios, scales, far from the origin) and on 10^5 more random pairs, including the statistics
 // and the whole polyhedron or polygon (points, barycentric coordinates, labels, facets).
+// Where the build has it (tests/CMakeLists.txt, TETIA_TEST_PORTABLE_KERNEL), the kernels' portable
+// scalar code, the other side of every SSE2 branch, is one more variant compared here.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -17,6 +19,12 @@
 #include "support/generators2d.hpp"
 #include "tetia/tet_intersection.hpp"
 #include "tetia/tri_intersection.hpp"
+
+#if defined(TETIA_TEST_PORTABLE_KERNEL)
+namespace tetia::detail::portable {
+extern const KernelVariant variant;  // src/kernel/tet_intersection_portable.cpp
+}
+#endif
 
 namespace tetia {
 namespace {
@@ -151,6 +159,9 @@ std::string variant_difference(const KernelVariant& base, const KernelVariant& v
 std::vector<const KernelVariant*> others() {
   std::vector<const KernelVariant*> v = detail::kernel_variants();
   v.erase(v.begin());  // the baseline
+#if defined(TETIA_TEST_PORTABLE_KERNEL)
+  v.push_back(&detail::portable::variant);
+#endif
   return v;
 }
 
