@@ -11,12 +11,21 @@
 
 #include "tetia/geometry.hpp"
 
-// SSE2 is part of x86-64; elsewhere the same computations run as scalar loops.
+// SSE2 is part of x86-64; elsewhere the same computations run as scalar loops. Where the
+// compiler targets AVX (the kernels' x86-64-v3 variant, kernel_variant.hpp), map() takes the
+// four coordinates of a point in one 4-lane pass instead of two 2-lane ones: the same
+// operations lane for lane, so the same bits.
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #define TETIA_KERNEL_SSE2 1
 #else
 #define TETIA_KERNEL_SSE2 0
+#endif
+#if TETIA_KERNEL_SSE2 && defined(__AVX2__)
+#include <immintrin.h>
+#define TETIA_KERNEL_AVX 1
+#else
+#define TETIA_KERNEL_AVX 0
 #endif
 
 namespace tetia::detail {
@@ -42,11 +51,12 @@ struct BarycentricMap {
   static constexpr int kMapFaceVerts[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
 
   // One entry per face k (opposite vertex k), as arrays over k.
-  alignas(16) double vx[4], vy[4], vz[4];  // the vertices, for the exact snapping
-  alignas(16) double ax[4], ay[4], az[4];  // anchor a_k: the face's first vertex
-  alignas(16) double nx[4], ny[4], nz[4];  // normal n_k
-  alignas(16) double px[4], py[4], pz[4];  // the terms of the normal in absolute value, for the permanent
-  alignas(16) double scale[4];  // +-1 / det6 with the sign that makes coordinate k of vertex k positive
+  // 32-byte aligned: one AVX load per array where map() runs on four lanes.
+  alignas(32) double vx[4], vy[4], vz[4];  // the vertices, for the exact snapping
+  alignas(32) double ax[4], ay[4], az[4];  // anchor a_k: the face's first vertex
+  alignas(32) double nx[4], ny[4], nz[4];  // normal n_k
+  alignas(32) double px[4], py[4], pz[4];  // the terms of the normal in absolute value, for the permanent
+  alignas(32) double scale[4];  // +-1 / det6 with the sign that makes coordinate k of vertex k positive
   alignas(16) double tiny[2];   // 2^-340 |det6|: a |det| below it is a coordinate below 2^-340
 
   static constexpr double kErrBound = (7.0 + 56.0 * 0x1p-53) * 0x1p-53;
@@ -58,7 +68,41 @@ struct BarycentricMap {
   // hand the baseline the AVX2 variant's (src/kernel/entry_points.hpp, "Linkage").
   [[gnu::always_inline]] BarycentricMap(const Tet& r, double inv_det6) {
     const double inv = inv_det6;
-#if TETIA_KERNEL_SSE2
+#if TETIA_KERNEL_AVX
+    // The loop below for the four faces at once: the vertices' x, y and z as vectors over the
+    // vertices, and each face's first, second and third vertex (kMapFaceVerts) picked from them
+    // by a permutation: (r1, r0, r0, r0), (r2, r2, r1, r1), (r3, r3, r3, r2).
+    const __m128d L[4] = {_mm_loadu_pd(&r[0].x), _mm_loadu_pd(&r[1].x), _mm_loadu_pd(&r[2].x), _mm_loadu_pd(&r[3].x)};
+    const __m256d X = _mm256_set_m128d(_mm_unpacklo_pd(L[2], L[3]), _mm_unpacklo_pd(L[0], L[1]));
+    const __m256d Y = _mm256_set_m128d(_mm_unpackhi_pd(L[2], L[3]), _mm_unpackhi_pd(L[0], L[1]));
+    const __m256d Z = _mm256_set_m128d(_mm_loadh_pd(_mm_load_sd(&r[2].z), &r[3].z), _mm_loadh_pd(_mm_load_sd(&r[0].z), &r[1].z));
+    constexpr int kFirst = 0x01, kSecond = 0x5A, kThird = 0xBF;  // lanes (1,0,0,0), (2,2,1,1), (3,3,3,2)
+    const __m256d f0x = _mm256_permute4x64_pd(X, kFirst), f0y = _mm256_permute4x64_pd(Y, kFirst),
+                  f0z = _mm256_permute4x64_pd(Z, kFirst);
+    const __m256d d1x = _mm256_sub_pd(_mm256_permute4x64_pd(X, kSecond), f0x),
+                  d1y = _mm256_sub_pd(_mm256_permute4x64_pd(Y, kSecond), f0y),
+                  d1z = _mm256_sub_pd(_mm256_permute4x64_pd(Z, kSecond), f0z);
+    const __m256d d2x = _mm256_sub_pd(_mm256_permute4x64_pd(X, kThird), f0x),
+                  d2y = _mm256_sub_pd(_mm256_permute4x64_pd(Y, kThird), f0y),
+                  d2z = _mm256_sub_pd(_mm256_permute4x64_pd(Z, kThird), f0z);
+    const __m256d yz = _mm256_mul_pd(d1y, d2z), zy = _mm256_mul_pd(d1z, d2y), zx = _mm256_mul_pd(d1z, d2x),
+                  xz = _mm256_mul_pd(d1x, d2z), xy = _mm256_mul_pd(d1x, d2y), yx = _mm256_mul_pd(d1y, d2x);
+    const __m256d sign = _mm256_set1_pd(-0.0);
+    _mm256_store_pd(ax, f0x);
+    _mm256_store_pd(ay, f0y);
+    _mm256_store_pd(az, f0z);
+    _mm256_store_pd(nx, _mm256_sub_pd(yz, zy));
+    _mm256_store_pd(ny, _mm256_sub_pd(zx, xz));
+    _mm256_store_pd(nz, _mm256_sub_pd(xy, yx));
+    _mm256_store_pd(px, _mm256_add_pd(_mm256_andnot_pd(sign, yz), _mm256_andnot_pd(sign, zy)));
+    _mm256_store_pd(py, _mm256_add_pd(_mm256_andnot_pd(sign, zx), _mm256_andnot_pd(sign, xz)));
+    _mm256_store_pd(pz, _mm256_add_pd(_mm256_andnot_pd(sign, xy), _mm256_andnot_pd(sign, yx)));
+    _mm256_store_pd(vx, X);
+    _mm256_store_pd(vy, Y);
+    _mm256_store_pd(vz, Z);
+    _mm256_store_pd(scale, _mm256_set_pd(inv, -inv, inv, -inv));  // scale[k] = (k % 2 == 0) ? -inv : inv
+    tiny[0] = tiny[1] = 0x1p-340 / std::abs(inv);
+#elif TETIA_KERNEL_SSE2
     // The loop below for faces (0, 1) and (2, 3) at once: first vertices (r1, r0), (r0, r0),
     // second (r2, r2), (r1, r1), third (r3, r3), (r3, r2) (kMapFaceVerts).
     // (x, y) of each vertex as one load; pairs of coordinates by unpacking.
@@ -147,7 +191,39 @@ struct BarycentricMap {
   template <bool kMax>
   [[gnu::always_inline]] void map(Vec3 u, double (&out)[4], LargestDet& largest_det) const {
     unsigned same = 0;  // bit k: u == vertex k
-#if TETIA_KERNEL_SSE2
+#if TETIA_KERNEL_AVX
+    // The SSE2 branch below on four lanes: each lane's operations are that branch's, in its
+    // order (compare predicates as _mm_cmpgt_pd's and _mm_cmpeq_pd's), and the running maximum
+    // takes lanes (0, 1) then (2, 3) as it does.
+    {
+      const __m256d ux = _mm256_set1_pd(u.x), uy = _mm256_set1_pd(u.y), uz = _mm256_set1_pd(u.z);
+      const __m256d sign = _mm256_set1_pd(-0.0), bound = _mm256_set1_pd(kErrBound);
+      const __m256d wx = _mm256_sub_pd(ux, _mm256_load_pd(ax)), wy = _mm256_sub_pd(uy, _mm256_load_pd(ay)),
+                    wz = _mm256_sub_pd(uz, _mm256_load_pd(az));
+      const __m256d det = _mm256_add_pd(
+          _mm256_add_pd(_mm256_mul_pd(wx, _mm256_load_pd(nx)), _mm256_mul_pd(wy, _mm256_load_pd(ny))),
+          _mm256_mul_pd(wz, _mm256_load_pd(nz)));
+      const __m256d perm =
+          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_andnot_pd(sign, wx), _mm256_load_pd(px)),
+                                      _mm256_mul_pd(_mm256_andnot_pd(sign, wy), _mm256_load_pd(py))),
+                        _mm256_mul_pd(_mm256_andnot_pd(sign, wz), _mm256_load_pd(pz)));
+      const __m256d abs_det = _mm256_andnot_pd(sign, det);
+      if constexpr (kMax) {
+        largest_det = _mm_max_pd(largest_det, _mm256_castpd256_pd128(perm));
+        largest_det = _mm_max_pd(largest_det, _mm256_extractf128_pd(perm, 1));
+      }
+      const __m256d keep =
+          _mm256_cmp_pd(abs_det, _mm256_max_pd(_mm256_mul_pd(bound, perm), _mm256_broadcast_sd(tiny)), _CMP_GT_OS);
+      _mm256_storeu_pd(out, _mm256_and_pd(keep, _mm256_mul_pd(det, _mm256_load_pd(scale))));
+      same = unsigned(_mm256_movemask_pd(_mm256_cmp_pd(ux, _mm256_load_pd(vx), _CMP_EQ_OQ)));  // x only, first
+      if (same) {  // some vertex has u's x: compare the whole points
+        const __m256d eq = _mm256_and_pd(
+            _mm256_and_pd(_mm256_cmp_pd(ux, _mm256_load_pd(vx), _CMP_EQ_OQ), _mm256_cmp_pd(uy, _mm256_load_pd(vy), _CMP_EQ_OQ)),
+            _mm256_cmp_pd(uz, _mm256_load_pd(vz), _CMP_EQ_OQ));
+        same = unsigned(_mm256_movemask_pd(eq));
+      }
+    }
+#elif TETIA_KERNEL_SSE2
     const __m128d ux = _mm_set1_pd(u.x), uy = _mm_set1_pd(u.y), uz = _mm_set1_pd(u.z);
     const __m128d sign = _mm_set1_pd(-0.0), bound = _mm_set1_pd(kErrBound);
     for (int h = 0; h < 4; h += 2) {

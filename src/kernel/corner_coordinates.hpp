@@ -155,7 +155,10 @@ inline bool Kernel<kWeights, kStats>::face_corner_by_eq5(int f, int a, int b, Qu
   const double inv = 1.0 / den;
   const double li = m_jk * inv, lj = m_ki * inv, lk = m_ij * inv;
   const Quad qi = load4(ci), qj = load4(cj), qk = load4(ck);
-#if TETIA_KERNEL_SSE2
+#if TETIA_KERNEL_AVX
+  res = Quad{_mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_set1_pd(li), qi.v), _mm256_mul_pd(_mm256_set1_pd(lj), qj.v)),
+                           _mm256_mul_pd(_mm256_set1_pd(lk), qk.v))};
+#elif TETIA_KERNEL_SSE2
   const __m128d Li = _mm_set1_pd(li), Lj = _mm_set1_pd(lj), Lk = _mm_set1_pd(lk);
   res = Quad{_mm_add_pd(_mm_add_pd(_mm_mul_pd(Li, qi.lo), _mm_mul_pd(Lj, qj.lo)), _mm_mul_pd(Lk, qk.lo)),
            _mm_add_pd(_mm_add_pd(_mm_mul_pd(Li, qi.hi), _mm_mul_pd(Lj, qj.hi)), _mm_mul_pd(Lk, qk.hi))};

@@ -3,7 +3,8 @@
 //
 // The library must run on any x86-64 (SSE2), yet the 3D kernel is 7-10 % faster compiled for
 // x86-64-v3 (AVX2, BMI1/2, LZCNT; docs/benchmarks.md): its code is mostly scalar, and gains from
-// the three-operand VEX encodings and BMI's bit operations rather than from wider vectors. So
+// the three-operand VEX encodings and BMI's bit operations more than from the wider vectors of
+// its map and lane operations (TETIA_KERNEL_AVX, barycentric_map.hpp). So
 // its entry points (entry_points.hpp) and the 2D kernel (tri_kernel.hpp) are compiled twice, and
 // the public functions (tetia/tet_intersection.hpp, tetia/tri_intersection.hpp) and OneToMany
 // call the variant chosen once, when the library is loaded: x86-64-v3 where the CPU (and the

@@ -14,16 +14,15 @@ namespace tetia::detail {
 
 namespace {
 
-// Four coordinates of a point, held in two SSE2 registers where available (whole-vector loads
-// and stores: a coordinate cleared in memory right before a vector load of the same point would
-// stall the load). Every operation is the scalar one, lane by lane.
+// Four coordinates of a point, held in two SSE2 registers where available, in one AVX register
+// in the x86-64-v3 variant (whole-vector loads and stores: a coordinate cleared in memory right
+// before a vector load of the same point would stall the load). Every operation is the scalar
+// one, lane by lane, so the three forms give the same bits.
 #if TETIA_KERNEL_SSE2
-struct Quad {
-  __m128d lo, hi;
-};
-// kKeepLanes[m]: all ones in the lanes not in m (m: 4-bit mask of lanes to clear).
+// kKeepLanes[m]: all ones in the lanes not in m (m: 4-bit mask of lanes to clear); 32-byte
+// aligned for the AVX load.
 struct KeepLanes {
-  alignas(16) std::uint64_t v[16][4];
+  alignas(32) std::uint64_t v[16][4];
 };
 constexpr KeepLanes make_keep_lanes() {
   KeepLanes k{};
@@ -44,6 +43,37 @@ constexpr FlipLanes make_flip_lanes() {
   return t;
 }
 constexpr FlipLanes kFlipLanes = make_flip_lanes();
+#endif
+#if TETIA_KERNEL_AVX
+struct Quad {
+  __m256d v;
+};
+inline Quad zero4() { return {_mm256_setzero_pd()}; }
+inline Quad load4(const double* p) { return {_mm256_loadu_pd(p)}; }
+inline void store4(double* p, const Quad& q) { _mm256_storeu_pd(p, q.v); }
+// s + t (o - s)
+inline Quad lerp(const Quad& s, const Quad& o, double t) {
+  return {_mm256_add_pd(s.v, _mm256_mul_pd(_mm256_set1_pd(t), _mm256_sub_pd(o.v, s.v)))};
+}
+// The lanes in m set to +0.0.
+inline Quad clear_lanes(const Quad& q, unsigned m) {
+  return {_mm256_and_pd(q.v, _mm256_castsi256_pd(_mm256_load_si256(reinterpret_cast<const __m256i*>(kKeepLanes.v[m]))))};
+}
+// Bit p: lane p >= 0 (the predicate of _mm_cmpge_pd).
+inline unsigned nonneg_lanes(const Quad& q) {
+  return unsigned(_mm256_movemask_pd(_mm256_cmp_pd(q.v, _mm256_setzero_pd(), _CMP_GE_OS)));
+}
+// Bit p: lane p == 0 (the predicate of _mm_cmpeq_pd).
+inline unsigned zero_lanes(const Quad& q) {
+  return unsigned(_mm256_movemask_pd(_mm256_cmp_pd(q.v, _mm256_setzero_pd(), _CMP_EQ_OQ)));
+}
+inline Quad mul4(const Quad& q, double x) { return {_mm256_mul_pd(q.v, _mm256_set1_pd(x))}; }
+inline Quad div4(const Quad& q, double x) { return {_mm256_div_pd(q.v, _mm256_set1_pd(x))}; }
+inline Quad set4(double x) { return {_mm256_set1_pd(x)}; }
+#elif TETIA_KERNEL_SSE2
+struct Quad {
+  __m128d lo, hi;
+};
 inline Quad zero4() { return {_mm_setzero_pd(), _mm_setzero_pd()}; }
 inline Quad load4(const double* p) { return {_mm_loadu_pd(p), _mm_loadu_pd(p + 2)}; }
 inline void store4(double* p, const Quad& q) {
