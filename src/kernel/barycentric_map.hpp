@@ -12,9 +12,9 @@
 #include "tetia/geometry.hpp"
 
 // SSE2 is part of x86-64; elsewhere the same computations run as scalar loops. Where the
-// compiler targets AVX (the kernels' x86-64-v3 variant, kernel_variant.hpp), map() takes the
-// four coordinates of a point in one 4-lane pass instead of two 2-lane ones: the same
-// operations lane for lane, so the same bits.
+// compiler targets AVX2 (the kernels' x86-64-v3 variant, kernel_variant.hpp), the map is made
+// for the four faces, and map() takes the four coordinates of a point, in one 4-lane pass
+// instead of two 2-lane ones: the same operations lane for lane, so the same bits.
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #define TETIA_KERNEL_SSE2 1
