@@ -1,6 +1,7 @@
 // The intersection of two tetrahedral meshes, or of two triangular ones: which (source cell,
 // target cell) pairs overlap with positive volume (area), found by an advancing front over facet
-// adjacency or by an R-tree.
+// adjacency or by an R-tree (packed_box_tree.hpp: the target cells' boxes, packed in their
+// Morton order).
 //
 // One implementation for both dimensions: everything below is a template over the mesh type
 // (src/supermesh/dimension.hpp says what differs: the point and cell types, the kernel, volume or
@@ -116,12 +117,10 @@
 #include <unistd.h>
 #endif
 
-#include <boost/geometry.hpp>
-#include <boost/geometry/index/rtree.hpp>
-
 #include "dimension.hpp"
 #include "../kernel/one_to_many.hpp"
 #include "mixed_mass.hpp"
+#include "packed_box_tree.hpp"
 #include "../compensated_sum.hpp"
 #include "../morton.hpp"
 #include "tetia/tet_intersection.hpp"
@@ -152,37 +151,7 @@ double Supermesh2::intersection_area() const {
 
 namespace {
 
-namespace bg = boost::geometry;
-namespace bgi = boost::geometry::index;
-
-template <int D>
-struct Box {
-  std::array<double, D> lo, hi;
-};
-
-template <int D>
-struct Tree {
-  using BPoint = bg::model::point<double, D, bg::cs::cartesian>;
-  using BBox = bg::model::box<BPoint>;
-  using Value = std::pair<BBox, std::int32_t>;
-  using RTree = bgi::rtree<Value, bgi::quadratic<16>>;
-
-  static BPoint point(const std::array<double, D>& x) {
-    if constexpr (D == 3) {
-      return BPoint(x[0], x[1], x[2]);
-    } else {
-      return BPoint(x[0], x[1]);
-    }
-  }
-  static BBox bbox(const Box<D>& b) { return BBox(point(b.lo), point(b.hi)); }
-  static Box<D> box(const BBox& b) {
-    Box<D> r;
-    r.lo[0] = bg::get<0>(b.min_corner()), r.hi[0] = bg::get<0>(b.max_corner());
-    r.lo[1] = bg::get<1>(b.min_corner()), r.hi[1] = bg::get<1>(b.max_corner());
-    if constexpr (D == 3) r.lo[2] = bg::get<2>(b.min_corner()), r.hi[2] = bg::get<2>(b.max_corner());
-    return r;
-  }
-};
+using detail::Box;
 
 template <class Mesh>
 Box<detail::Dim<Mesh>::d> box_of(const typename detail::Dim<Mesh>::Cell& t) {
@@ -420,7 +389,7 @@ struct Shared {
   using Dm = detail::Dim<Mesh>;
   const Mesh& source;
   const Mesh& target;
-  const typename Tree<Dm::d>::RTree& tree;
+  const detail::PackedBoxTree<Dm::d>& tree;  // of the target cells' boxes, by position
   Box<Dm::d> target_bounds;  // the bounding box of all target cells
   bool keep_shapes;  // keep the polyhedra (polygons)
   bool keep_mass;    // keep each piece's local mixed mass matrix
@@ -453,7 +422,6 @@ class Worker {
   using Piece = typename Dm::Piece;
   using Shape = typename Dm::Shape;
   using LocalMass = typename Dm::LocalMass;
-  using TreeT = Tree<Dm::d>;
 
  public:
   // The pieces' storage is reserved for a typical count of all the pieces (between 2.6 and 9
@@ -629,7 +597,7 @@ class Worker {
   void query_box() {
     hits_.clear();
     if (overlap_open(sbox_, sh_.target_bounds))
-      sh_.tree.query(bgi::intersects(TreeT::bbox(sbox_)), std::back_inserter(hits_));
+      sh_.tree.query(sbox_, [this](std::size_t t) { hits_.push_back(static_cast<std::int32_t>(t)); });
   }
 
   // Every target whose bounding box overlaps s's, not yet tested. With `filter` (the front's
@@ -639,12 +607,12 @@ class Worker {
   // it saves (10 % slower at 10^6 cells).
   void rtree_pass(std::int32_t s, bool filter) {
     query_box();
-    for (const auto& h : hits_) {
-      if (mark_[static_cast<std::size_t>(h.second)] == stamp_ + 1) continue;
+    for (const std::int32_t h : hits_) {
+      if (mark_[static_cast<std::size_t>(h)] == stamp_ + 1) continue;
       if constexpr (Dm::d == 3) {
-        if (filter && separated_from_s(h.second)) continue;
+        if (filter && separated_from_s(h)) continue;
       }
-      test(s, h.second);
+      test(s, h);
     }
   }
 
@@ -654,13 +622,13 @@ class Worker {
   // risky faces all lie outside s (risky_faces_outside) are left out.
   void risky_pass(std::int32_t s) {
     query_box();
-    for (const auto& h : hits_) {
-      const unsigned risky = sh_.targets[static_cast<std::size_t>(h.second)].risky_faces;
-      if (!risky || seen(h.second)) continue;
+    for (const std::int32_t h : hits_) {
+      const unsigned risky = sh_.targets[static_cast<std::size_t>(h)].risky_faces;
+      if (!risky || seen(h)) continue;
       if constexpr (Dm::d == 3) {
-        if (risky_faces_outside(h.second, risky)) continue;
+        if (risky_faces_outside(h, risky)) continue;
       }
-      enqueue(h.second);
+      enqueue(h);
     }
     flood(s);
   }
@@ -795,7 +763,7 @@ class Worker {
   std::vector<std::uint8_t> across_;  // parallel to cand_: see enqueue
   bool cut_ = false;                   // a candidate queued across a crossed face tested zero
   std::size_t head_ = 0;
-  std::vector<typename TreeT::Value> hits_;
+  std::vector<std::int32_t> hits_;  // positions of targets
   std::vector<Piece> pieces_;
   std::vector<Shape> shapes_;
   std::vector<LocalMass> mass_;  // parallel to pieces_ when kept
@@ -862,7 +830,6 @@ typename detail::Dim<Mesh>::Result build(
     BasicPieceConsumer<typename detail::Dim<Mesh>::Piece, typename detail::Dim<Mesh>::Shape>* consumer = nullptr,
     std::size_t* pieces_handed = nullptr) {
   using Dm = detail::Dim<Mesh>;
-  using TreeT = Tree<Dm::d>;
   if (!source_mesh || !target_mesh) throw std::invalid_argument("tetia: supermesh: a mesh is null");
   const auto t0 = std::chrono::steady_clock::now();
   typename Dm::Result out;
@@ -874,13 +841,13 @@ typename detail::Dim<Mesh>::Result build(
   if (ns == 0 || nt == 0) return out;
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
 
-  // The target records in Morton order, and the R-tree (packed: bulk loading) of their boxes.
+  // The target records in Morton order, and the R-tree of their boxes packed in that order.
   std::vector<TargetCell<Mesh>> targets;
-  std::vector<typename TreeT::Value> values;
+  std::vector<Box<Dm::d>> boxes;  // by position
   reserve_touched(targets, nt, threads);
-  reserve_touched(values, nt, threads);
+  reserve_touched(boxes, nt, threads);
   targets.resize(nt);
-  values.resize(nt);
+  boxes.resize(nt);
   const auto nt_i = static_cast<std::int64_t>(nt);
   {
     std::vector<std::int32_t> torder, trank;
@@ -891,7 +858,7 @@ typename detail::Dim<Mesh>::Result build(
       const auto t = static_cast<std::size_t>(torder[static_cast<std::size_t>(i)]);
       TargetCell<Mesh>& rec = targets[static_cast<std::size_t>(i)];
       const auto cell = target.cell(t);
-      values[static_cast<std::size_t>(i)] = {TreeT::bbox(box_of<Mesh>(cell)), static_cast<std::int32_t>(i)};
+      boxes[static_cast<std::size_t>(i)] = box_of<Mesh>(cell);
       unsigned r = 0;
       for (std::size_t k = 0; k < target.neighbors[t].size(); ++k) {
         const std::int32_t n = target.neighbors[t][k];
@@ -912,8 +879,8 @@ typename detail::Dim<Mesh>::Result build(
       }
     }
   }
-  const typename TreeT::RTree tree(values.begin(), values.end());
-  values = {};
+  const detail::PackedBoxTree<Dm::d> tree(boxes);
+  boxes = {};
 
   // Source cells are visited along a space-filling (Morton) curve through their centroids, so
   // that a chunk is a compact region whatever the file's numbering (Gmsh numbers cells in no
@@ -944,7 +911,7 @@ typename detail::Dim<Mesh>::Result build(
   std::vector<std::size_t> piece_begin(ns, 0), piece_count(ns, 0);
   std::vector<std::uint32_t> target_pieces(nt, 0);
   const std::size_t values_per_piece = consumer ? consumer->values_per_piece() : 0;
-  const Shared<Mesh> sh{source,    target, tree,  TreeT::box(tree.bounds()), options.keep_polyhedra, options.keep_mixed_mass,
+  const Shared<Mesh> sh{source,    target, tree,  tree.bounds(), options.keep_polyhedra, options.keep_mixed_mass,
                         consumer,  values_per_piece, targets, sources, state, parent, piece_begin, piece_count,
                         target_pieces, threads > 1};
 
