@@ -73,6 +73,15 @@ void check_sizes() {
         tree.query(q, [&](std::size_t i) { hits.push_back(i); });
         ASSERT_EQ(hits, scan(boxes, q)) << "n " << n << " sorted " << sorted << " trial " << trial;
       }
+      {  // an unbounded query meets every box, and nothing else (no slot past the last box)
+        Box<D> everything;
+        everything.lo.fill(-INFINITY);
+        everything.hi.fill(INFINITY);
+        std::vector<std::size_t> all;
+        tree.query(everything, [&](std::size_t i) { all.push_back(i); });
+        ASSERT_EQ(all, scan(boxes, everything)) << "n " << n;
+        ASSERT_EQ(all.size(), n);
+      }
       if (n > 0) {  // the bounds, and a query with them, which meets every box
         std::vector<std::size_t> all;
         tree.query(tree.bounds(), [&](std::size_t i) { all.push_back(i); });

@@ -20,9 +20,9 @@
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -98,13 +98,14 @@ class PackedBoxTree {
 
  private:
   // kFanout boxes, one array per bound and axis, so that testing them against a query is a few
-  // vector compares and no branch (empty slots: lo = +inf, hi = -inf, meeting nothing).
+  // vector compares and no branch (empty slots: NaN bounds, which meet nothing, not even a query
+  // box with infinite bounds).
   struct alignas(16) Group {
     double lo[D][kFanout];
     double hi[D][kFanout];
     Group() {
       for (std::size_t k = 0; k < D; ++k)
-        for (std::size_t c = 0; c < kFanout; ++c) lo[k][c] = INFINITY, hi[k][c] = -INFINITY;
+        for (std::size_t c = 0; c < kFanout; ++c) lo[k][c] = hi[k][c] = std::numeric_limits<double>::quiet_NaN();
     }
     // Bit c: box c meets q.
     unsigned meeting(const Box<D>& q) const {
