@@ -20,7 +20,7 @@ packages=(
   libmpfr-dev       # needed by CGAL
   libcli11-dev      # command-line parsing (tetia executable)
   libcgal-dev       # CGAL: the comparison in bench/bench_cgal
-  libboost-dev      # Boost.Geometry R-tree (supermesh search); CGAL's headers need it too
+  libboost-dev      # Boost.Geometry R-tree (the MPI layer's rank boxes); CGAL's headers need it too
   libeigen3-dev     # sparse matrices and conjugate gradients (P1 remap)
   libgmsh-dev       # generating meshes (Gmsh C++ API), and the reference reader of the tests
   zlib1g-dev        # compressed binary VTU output
