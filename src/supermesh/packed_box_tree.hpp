@@ -5,7 +5,8 @@
 // the Morton curve). Internal to the library.
 //
 // Contract: query(q, f) calls f(i) once for every box i (its position in the constructor's
-// array) whose closed box meets q's closed box, in increasing i, and for no other. The tree
+// array) whose closed box meets q's closed box, in increasing i, and for no other (a box with
+// a NaN bound meets nothing; the others are found whatever their neighbours hold). The tree
 // never changes after its construction, which takes O(n) time; it holds a copy of the boxes and
 // about n / (kFanout - 1) boxes more.
 //
@@ -20,6 +21,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -130,11 +132,12 @@ class PackedBoxTree {
       return mask;
 #endif
     }
+    // The union of the boxes, NaN bounds (empty slots) ignored.
     Box<D> bounds() const {
       Box<D> u;
       for (std::size_t k = 0; k < D; ++k) {
-        u.lo[k] = lo[k][0], u.hi[k] = hi[k][0];
-        for (std::size_t c = 1; c < kFanout; ++c) {
+        u.lo[k] = INFINITY, u.hi[k] = -INFINITY;
+        for (std::size_t c = 0; c < kFanout; ++c) {
           u.lo[k] = lo[k][c] < u.lo[k] ? lo[k][c] : u.lo[k];
           u.hi[k] = u.hi[k] < hi[k][c] ? hi[k][c] : u.hi[k];
         }
