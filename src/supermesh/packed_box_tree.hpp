@@ -40,14 +40,6 @@ struct Box {
   std::array<double, D> lo, hi;
 };
 
-/// Whether the closed boxes a and b meet (touching counts).
-template <int D>
-inline bool boxes_meet(const Box<D>& a, const Box<D>& b) {
-  bool r = true;
-  for (std::size_t k = 0; k < D; ++k) r &= unsigned(a.lo[k] <= b.hi[k]) & unsigned(b.lo[k] <= a.hi[k]);  // no branches
-  return r;
-}
-
 template <int D>
 class PackedBoxTree {
  public:
@@ -58,20 +50,22 @@ class PackedBoxTree {
     if (boxes.empty()) return;
     // levels_[0] holds the boxes, each level above the unions of kFanout consecutive boxes of
     // the one below, until one box: the root, kept apart.
-    std::vector<Box<D>> level = boxes;
+    const std::vector<Box<D>>* level = &boxes;  // the input, then the unions of the level below
+    std::vector<Box<D>> above;
     for (;;) {
-      levels_.emplace_back((level.size() + kFanout - 1) / kFanout);
-      for (std::size_t i = 0; i < level.size(); ++i)
+      levels_.emplace_back((level->size() + kFanout - 1) / kFanout);
+      for (std::size_t i = 0; i < level->size(); ++i)
         for (std::size_t k = 0; k < D; ++k) {
-          levels_.back()[i / kFanout].lo[k][i % kFanout] = level[i].lo[k];
-          levels_.back()[i / kFanout].hi[k][i % kFanout] = level[i].hi[k];
+          levels_.back()[i / kFanout].lo[k][i % kFanout] = (*level)[i].lo[k];
+          levels_.back()[i / kFanout].hi[k][i % kFanout] = (*level)[i].hi[k];
         }
-      if (level.size() == 1) break;
-      std::vector<Box<D>> above(levels_.back().size());
-      for (std::size_t j = 0; j < above.size(); ++j) above[j] = levels_.back()[j].bounds();
-      level = std::move(above);
+      if (level->size() == 1) break;
+      std::vector<Box<D>> unions(levels_.back().size());
+      for (std::size_t j = 0; j < unions.size(); ++j) unions[j] = levels_.back()[j].bounds();
+      above = std::move(unions);
+      level = &above;
     }
-    root_ = level.front();
+    root_ = level->front();
   }
 
   std::size_t size() const { return size_; }

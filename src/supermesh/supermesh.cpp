@@ -476,9 +476,7 @@ class Worker {
       queue_.push_back(start);
       for (std::size_t head = 0; head < queue_.size(); ++head) {
         const std::int32_t s = queue_[head];
-        // What the next two source cells will read (see prefetch_cell).
-        if (head + 2 < queue_.size()) prefetch_cell(sh_.source, sh_.sources[static_cast<std::size_t>(queue_[head + 2])].id, false);
-        if (head + 1 < queue_.size()) prefetch_cell(sh_.source, sh_.sources[static_cast<std::size_t>(queue_[head + 1])].id, true);
+        prefetch_ahead(sh_.source, sh_.sources, queue_, head + 1);
         process_front(s, ch);
         sh_.state[static_cast<std::size_t>(s)] = 2;
         for (const std::int32_t n : sh_.sources[static_cast<std::size_t>(s)].neighbors) {
@@ -572,6 +570,14 @@ class Worker {
     }
     for (const std::int32_t n : v) __builtin_prefetch(&mesh.nodes[static_cast<std::size_t>(n)]);
   }
+  // What the cells queue[next] and queue[next + 1] (positions in `records`, cells of `mesh`)
+  // will read, where they exist: the vertices of the first, the indices of the second.
+  template <class Records>
+  static void prefetch_ahead(const Mesh& mesh, const Records& records, const std::vector<std::int32_t>& queue,
+                             std::size_t next) {
+    if (next + 1 < queue.size()) prefetch_cell(mesh, records[static_cast<std::size_t>(queue[next + 1])].id, false);
+    if (next < queue.size()) prefetch_cell(mesh, records[static_cast<std::size_t>(queue[next])].id, true);
+  }
 
   // The vertices of the target at position t.
   Cell target_cell(std::int32_t t) const {
@@ -590,9 +596,7 @@ class Worker {
   // only what the flood has not.
   void flood(std::int32_t s) {
     while (head_ < cand_.size()) {
-      // What the next two candidates will read (see prefetch_cell).
-      if (head_ + 2 < cand_.size()) prefetch_cell(sh_.target, sh_.targets[static_cast<std::size_t>(cand_[head_ + 2])].id, false);
-      if (head_ + 1 < cand_.size()) prefetch_cell(sh_.target, sh_.targets[static_cast<std::size_t>(cand_[head_ + 1])].id, true);
+      prefetch_ahead(sh_.target, sh_.targets, cand_, head_ + 1);
       const bool across = across_[head_] != 0;
       const std::int32_t t = cand_[head_++];
       if (!test(s, t)) {
