@@ -28,6 +28,7 @@ TriIntersectionStats& TriIntersectionStats::operator+=(const TriIntersectionStat
   refined += o.refined;
   rescaled += o.rescaled;
   exact_fallbacks += o.exact_fallbacks;
+  certified += o.certified;
   calls += o.calls;
   return *this;
 }

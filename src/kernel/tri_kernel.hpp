@@ -39,6 +39,7 @@
 #include "exact_fallback.hpp"
 #include "exact_sign.hpp"
 #include "rescale.hpp"  // scaled_exactly
+#include "tri_certified_moments.hpp"
 #include "tetia/tri_intersection.hpp"
 
 namespace tetia {
@@ -1068,6 +1069,11 @@ struct PolygonBuilder {
     }
   }
 
+  // The certified formula's area and first moments (tri_certified_moments.hpp) replace the
+  // kernel's, which they agree with to the kernel's accuracy, so that every entry point gives
+  // the same bits.
+  static void set_moments(Polygon& P, const Moments2& m) { P.moments_ = m; }
+
   // The exact last resort's polygon (exact_fallback.hpp): already in the caller's numbering.
   static void fill_exact(Polygon& P, const detail::ExactPolygon& x) {
     P.num_corners_ = x.num_corners;
@@ -1111,15 +1117,37 @@ namespace detail::TETIA_KERNEL_VARIANT {
 struct TriTag {};  // names this variant's PolygonBuilder
 using Builder = PolygonBuilder<TriTag>;
 
+// Every entry point first tries the certified formula (tri_certified_moments.hpp) on pairs
+// whose boxes overlap: where it decides, its area and first moments are the result, bit for
+// bit the same from every entry point (the polygon's corners, where asked for, still come from
+// the kernel); elsewhere the kernel decides, as before.
+detail2::Certified certified_first(const Triangle& A, const Triangle& B, Moments2& m) {
+  if (detail2::boxes_disjoint(A, B)) return detail2::Certified::kSeparated;
+  return detail2::certified_moments(A, B, m);
+}
+
 // tetia::intersect (2D).
 Polygon tri_intersect(const Triangle& A, const Triangle& B, TriIntersectionStats* stats) {
   Polygon P;
   if (stats) ++stats->calls;
+  if (detail2::boxes_disjoint(A, B)) return P;
+  Moments2 certified;
+  const detail2::Certified how = detail2::certified_moments(A, B, certified);
+  if (stats && how != detail2::Certified::kUncertain) ++stats->certified;
+  if (how == detail2::Certified::kSeparated) return P;
   detail2::Frame fr;
   detail2::KernelResult res;
   int scale = 0;
   switch (detail2::solve<true>(A, B, fr, res, scale, stats)) {
     case detail2::Outcome::empty:
+      // Not where the formula certified an area (at least 2^-30 of the smaller triangle, within
+      // 2^-47 of it; the kernel is within 1e-12): the exact polygon, should it ever happen.
+      if (how == detail2::Certified::kCertified) {
+        if (stats) ++stats->exact_fallbacks;
+        ExactPolygon x;
+        exact_polygon(A, B, x);
+        Builder::fill_exact(P, x);
+      }
       break;
     case detail2::Outcome::kernel:
       Builder::fill(P, fr, res, scale);
@@ -1132,11 +1160,21 @@ Polygon tri_intersect(const Triangle& A, const Triangle& B, TriIntersectionStats
       break;
     }
   }
+  if (how == detail2::Certified::kCertified) Builder::set_moments(P, certified);
   return P;
 }
 
 // tetia::intersection_moments (2D).
 Moments2 tri_moments(const Triangle& A, const Triangle& B) {
+  Moments2 certified;
+  switch (certified_first(A, B, certified)) {
+    case detail2::Certified::kSeparated:
+      return {};
+    case detail2::Certified::kCertified:
+      return certified;
+    case detail2::Certified::kUncertain:
+      break;
+  }
   detail2::Frame fr;
   detail2::KernelResult res;
   int scale = 0;
@@ -1158,6 +1196,15 @@ Moments2 tri_moments(const Triangle& A, const Triangle& B) {
 
 // tetia::intersection_area.
 double tri_area(const Triangle& A, const Triangle& B) {
+  Moments2 certified;
+  switch (certified_first(A, B, certified)) {
+    case detail2::Certified::kSeparated:
+      return 0.0;
+    case detail2::Certified::kCertified:
+      return certified.area;
+    case detail2::Certified::kUncertain:
+      break;
+  }
   detail2::Frame fr;
   detail2::KernelResult res;
   int scale = 0;

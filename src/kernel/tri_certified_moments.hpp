@@ -1,0 +1,408 @@
+// src/kernel/tri_certified_moments.hpp -- the area and first moments of the intersection of two
+// triangles in general position, with an error bound derived below, without the kernel's
+// labels: the 2D kernel's first step (tri_kernel.hpp), which answers most pairs.
+//
+// Contract: certified_moments(A, B, m) returns
+//  - kSeparated when an edge line of one triangle has the three vertices of the other strictly
+//    on its outer side, every orientation involved being certain (Shewchuk's bound): the exact
+//    area is 0.
+//  - kCertified when |m.area - exact area| <= kAcceptedError times the smaller triangle's area
+//    (a bound, rounding included, not an estimate) and m.area is at least kSmallestFraction of
+//    it; m.first: the first moments of the same polygon (not bounded).
+//  - kUncertain otherwise: an orientation within its error bound (a vertex on or near an edge
+//    line of the other triangle: shared vertices, collinear edges), a triangle whose own
+//    orientation is not certain, two crossings on one edge too close to order, a bound above
+//    the threshold, a small overlap, equal determinants or equal abscissas within a triangle,
+//    a coordinate outside [-2^300, 2^300] or not finite. The kernel decides those.
+// The outcome and the bits of m depend on A and B as two sets of three points only: not on the
+// order of the triangles nor of their vertices. Nothing allocates, nothing throws.
+//
+// Method. Each triangle is put in a canonical order: its vertex of smallest abscissa first
+// (equal abscissas: uncertain), then counter-clockwise. S is the one with the smaller
+// determinant, L the other. Everything is measured in S's own frame, where S is the unit
+// triangle: o = S0 -> (0, 0), S1 -> (1, 0), S2 -> (0, 1), lambda = (l1, l2) the barycentric
+// coordinates of S1 and S2, as the kernel measures areas (tri_kernel.hpp, step 5). Every corner
+// of S n L is
+//  - a vertex of S: exact in the frame;
+//  - a crossing of S's edge f with L's edge line k: the weight t = g_p / (g_p - g_q) along f,
+//    g_p, g_q the orientations of f's ends against line k (a point (t, 0), (1 - t, t) or
+//    (0, 1 - t) on edge 0, 1 or 2);
+//  - a vertex of L inside S: lambda = (g_2, g_0) / det(S), g_k its orientation against S's edge k.
+// Which corners, and how they connect, follows from signs: S's edge f is clipped by L's three
+// lines to its part inside L, [t0, t1], which starts where f enters L across line k0 and ends
+// where it leaves across k1. L's edge e then runs inside S from the crossing where S's part on f
+// ends on line e (k1 = e: the boundary turns from S's edge onto L's), or from L's vertex e if
+// that is inside S, to the crossing where a part of S starts on line e, or L's vertex e + 1.
+// Twice the area is the fan from o over the boundary: S's parts on edges 0 and 2 lie on lines
+// through o and add exactly 0 (one coordinate is exactly 0 in the frame); S's part on edge 1
+// adds t1 - t0; L's part from P to Q adds P x Q. Each crossing is computed once and shared by
+// the two parts it ends, so the computed polygon is closed. Area = det(S) / 2 times that;
+// first moments likewise (the fan's triangles' centroids), mapped back as the kernel does.
+//
+// Error bound, eps = 2^-53, for twice the area in the frame; then times det(S).
+//  (1) Each orientation g = (b - a) x (x - a) is computed as Shewchuk's orient2d computes it:
+//      |g_computed - g| <= E = (3 + 16 eps) eps (|l| + |r|) for its two computed products l, r,
+//      plus 2^-1000 for roundings in the subnormal range (the bound assumes none). All 18 must
+//      have |g| > E (certain signs), and det(S), det(L) likewise.
+//  (2) A crossing t = g_p * (1 / (g_p - g_q)) is within dt of the exact one:
+//      dt = Q (1 + 2 Q)(1 + 16 eps) + 4 eps, Q = (E_p + E_q) |1 / (g_p - g_q)| <= 1/2. (The
+//      quotient of computed g's moves from the exact t by at most
+//      (E_p + E_q) / (|g_p - g_q| - E_p - E_q) = Q / (1 - Q) <= Q (1 + 2 Q): on the box of radii
+//      E_p, E_q the signs do not change, and |d/dx x / (x - y)| |y| ... <= 1 / |x - y|; three
+//      roundings and Q's own add the rest.) t0 = max(0, lower ones) and t1 = min(1, upper ones)
+//      are within the dt of the one chosen, provided the choice is certain: two crossings on one
+//      side of an edge must differ by more than their dt's, and a part is certainly non-empty
+//      (t1 - t0 > dt0 + dt1 + eps) or certainly empty. Then the computed corners are the exact
+//      ones, moved, in the same combinatorial order.
+//  (3) Moving the corners V_i of a closed polygon by d_i changes twice its area by
+//      sum_i d_i x (V_{i+1} - V_{i-1}) + sum_i d_i x d_{i+1}. A crossing moves along S's edge f
+//      by dt (d_f = (1, 0), (-1, 1), (0, -1) in the frame): one of its neighbours lies along f,
+//      which cancels, the other along L's edge, w = the exact side on L's edge, so its term is at
+//      most dt |d_f x w| <= dt (|d_f x w_computed| + |d_f|_1 (a_0 + a_1)), a the ends' bounds.
+//      (This is why a shallow crossing, whose t is ill-conditioned, costs little: the side it
+//      slides along is nearly parallel to f.) Everything else (the rounding of 1 - t, the
+//      coordinates of a vertex of L: (E_k + 2.01 eps |g_k|) / det + |lambda| rel(det), rel(det)
+//      = det's error bound over det less it) moves a corner by at most a in the max norm, and
+//      |V_{i+1} - V_{i-1}|_1 <= 2 in the unit triangle: 2 a. Second order: 2 |d_0|_inf |d_1|_inf
+//      per side.
+//  (4) Evaluation: P x Q rounds to within 2.01 eps (|P_x Q_y| + |P_y Q_x|); t1 - t0 within eps
+//      of itself; the sum of at most four terms within 3.01 eps of the sum of their magnitudes.
+//  (5) In original units: det times that, plus |twice the area in the frame| times det's error
+//      bound, plus the last product's rounding; the bound evaluated with a factor 1 + 64 eps for
+//      its own roundings.
+// Coordinates within [-2^300, 2^300] keep every product below 2^1000 and every first moment
+// below 2^910; det(S) >= 2^-600 keeps the products the frame divides by normal.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "tetia/geometry.hpp"
+#include "tetia/polygon.hpp"  // Moments2
+
+namespace tetia {
+namespace detail2 {
+namespace {
+
+enum class Certified : std::uint8_t { kUncertain, kSeparated, kCertified };
+
+// The largest bound accepted, relative to the smaller triangle's area.
+constexpr double kAcceptedError = 0x1p-47;
+// A certified area is at least this fraction of the smaller triangle's, far above any error:
+// the polygon intersect() builds for it is never empty, and smaller overlaps (an edge grazing a
+// vertex) go to the kernel.
+constexpr double kSmallestFraction = 0x1p-30;
+
+namespace certified {
+
+constexpr double kEps = 0x1p-53;
+constexpr double kOrientBound = (3.0 + 16.0 * kEps) * kEps;  // Shewchuk's ccwerrboundA
+constexpr double kUnderflow = 0x1p-1000;                     // slack for subnormal roundings
+constexpr double kRange = 0x1p300;
+constexpr double kSmallestDet = 0x1p-600;
+
+// A triangle with its vertex of smallest abscissa first, then counter-clockwise.
+// det = (p1 - p0) x (p2 - p0) > det_error (its error bound) when `certain`.
+struct Canonical {
+  Vec2 p[3];
+  double det;
+  double det_error;
+  bool certain;
+};
+
+[[gnu::always_inline]] inline Canonical canonical(const Triangle& t) {
+  static constexpr int kNext[3] = {1, 2, 0}, kPrev[3] = {2, 0, 1};
+  // Without branches: the order is random.
+  const int m01 = t[1].x < t[0].x ? 1 : 0;
+  const int m = t[2].x < t[m01].x ? 2 : m01;
+  Canonical c;
+  c.p[0] = t[m];
+  c.p[1] = t[kNext[m]];
+  c.p[2] = t[kPrev[m]];
+  const Vec2 e1 = c.p[1] - c.p[0], e2 = c.p[2] - c.p[0];
+  const double l = e1.x * e2.y, r = e1.y * e2.x;
+  const double det = l - r;
+  // The reversed order computes exactly -det (the same products, swapped): one value either way.
+  const bool flip = det < 0.0;
+  const Vec2 p1 = c.p[1];
+  c.p[1] = flip ? c.p[2] : p1;
+  c.p[2] = flip ? p1 : c.p[2];
+  c.det = std::abs(det);
+  c.det_error = kOrientBound * (std::abs(l) + std::abs(r)) + kUnderflow;
+  // Equal abscissas would make the first vertex depend on the input's order.
+  c.certain = int(c.det > c.det_error) & int(t[0].x != t[1].x) & int(t[1].x != t[2].x) & int(t[0].x != t[2].x);
+  return c;
+}
+
+// Four lanes of doubles: lanes 0-2 a triangle's three vertices (or edges), lane 3 a copy of lane
+// 0, so that "all lanes" means all three. GCC's and Clang's vector extensions, one AVX register
+// where the variant has AVX (x86-64-v3), else two SSE2 halves (a 32-byte vector without AVX
+// would change the ABI and compile to scalar code). Every lane is an IEEE operation, so both
+// give the same bits.
+#if defined(__AVX__)
+using v4d = double __attribute__((vector_size(32)));
+using v4i = std::int64_t __attribute__((vector_size(32)));
+[[gnu::always_inline]] inline v4d lanes(double a, double b, double c, double d) { return (v4d){a, b, c, d}; }
+[[gnu::always_inline]] inline v4i mask_of(bool m) { return m ? (v4i){-1, -1, -1, -1} : (v4i){0, 0, 0, 0}; }
+[[gnu::always_inline]] inline v4d vabs(const v4d& x) {
+  return (v4d)((v4i)x & (v4i){INT64_MAX, INT64_MAX, INT64_MAX, INT64_MAX});
+}
+[[gnu::always_inline]] inline v4d select(const v4i& m, const v4d& a, const v4d& b) { return m ? a : b; }
+// Lane f -> lane f + 1 (mod 3): the other end of edge f.
+[[gnu::always_inline]] inline v4d next(const v4d& x) { return __builtin_shufflevector(x, x, 1, 2, 0, 1); }
+#else
+using v2d = double __attribute__((vector_size(16)));
+using v2i = std::int64_t __attribute__((vector_size(16)));
+struct v4i {
+  v2i lo, hi;
+  std::int64_t operator[](int k) const { return k < 2 ? lo[k] : hi[k - 2]; }
+};
+struct v4d {
+  v2d lo, hi;
+  double operator[](int k) const { return k < 2 ? lo[k] : hi[k - 2]; }
+};
+[[gnu::always_inline]] inline v4d lanes(double a, double b, double c, double d) { return {(v2d){a, b}, (v2d){c, d}}; }
+[[gnu::always_inline]] inline v4i mask_of(bool m) {
+  const v2i h = m ? (v2i){-1, -1} : (v2i){0, 0};
+  return {h, h};
+}
+#define TETIA_LANES_OP(R, T, op) \
+  [[gnu::always_inline]] inline R operator op(const T& a, const T& b) { return {a.lo op b.lo, a.hi op b.hi}; }
+TETIA_LANES_OP(v4d, v4d, +)
+TETIA_LANES_OP(v4d, v4d, -)
+TETIA_LANES_OP(v4d, v4d, *)
+TETIA_LANES_OP(v4d, v4d, /)
+TETIA_LANES_OP(v4i, v4d, <)
+TETIA_LANES_OP(v4i, v4d, >)
+TETIA_LANES_OP(v4i, v4d, <=)
+TETIA_LANES_OP(v4i, v4i, &)
+TETIA_LANES_OP(v4i, v4i, |)
+#undef TETIA_LANES_OP
+[[gnu::always_inline]] inline v4d operator-(const v4d& a) { return {-a.lo, -a.hi}; }
+[[gnu::always_inline]] inline v4i operator~(const v4i& a) { return {~a.lo, ~a.hi}; }
+[[gnu::always_inline]] inline v4i& operator|=(v4i& a, const v4i& b) { return a = a | b; }
+[[gnu::always_inline]] inline v4d vabs(const v4d& x) {
+  const v2i m = {INT64_MAX, INT64_MAX};
+  return {(v2d)((v2i)x.lo & m), (v2d)((v2i)x.hi & m)};
+}
+[[gnu::always_inline]] inline v4d select(const v4i& m, const v4d& a, const v4d& b) {
+  return {m.lo ? a.lo : b.lo, m.hi ? a.hi : b.hi};
+}
+[[gnu::always_inline]] inline v4d next(const v4d& x) { return {__builtin_shufflevector(x.lo, x.hi, 1, 2), x.lo}; }
+#endif
+[[gnu::always_inline]] inline v4d splat(double x) { return lanes(x, x, x, x); }
+[[gnu::always_inline]] inline bool all(const v4i& m) { return (m[0] & m[1] & m[2] & m[3]) != 0; }
+[[gnu::always_inline]] inline bool any(const v4i& m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
+
+// Orientations of x's three vertices (lanes) against t's edge line k (from t.p[k] to
+// t.p[k + 1]), positive inside, with their error bounds: g[k], e[k].
+[[gnu::always_inline]] inline void orientations(const Canonical& t, const Canonical& x, v4d (&g)[3], v4d (&e)[3]) {
+  const v4d px = lanes(x.p[0].x, x.p[1].x, x.p[2].x, x.p[0].x);
+  const v4d py = lanes(x.p[0].y, x.p[1].y, x.p[2].y, x.p[0].y);
+  for (int k = 0; k < 3; ++k) {
+    const Vec2 a = t.p[k], d = t.p[k == 2 ? 0 : k + 1] - t.p[k];
+    const v4d l = splat(d.x) * (py - splat(a.y)), r = splat(d.y) * (px - splat(a.x));
+    g[k] = l - r;
+    e[k] = splat(kOrientBound) * (vabs(l) + vabs(r)) + splat(kUnderflow);
+  }
+}
+
+// S's three edges (lanes f: from S.p[f] to S.p[f + 1]) clipped by L's three lines: the
+// crossing weights and the part inside L, (2). g, err: L's lines at S's vertices.
+struct EdgeParts {
+  v4d t0, t1, dt0, dt1;
+  v4d k0, k1;     // the line the part starts on (enters L) and ends on (leaves L); -1: a vertex
+  v4i nonempty;   // certainly a part of positive length
+  bool certain;   // every decision is certain
+};
+
+[[gnu::always_inline]] inline EdgeParts clip_edges(const v4d (&g)[3], const v4d (&err)[3]) {
+  EdgeParts p;
+  p.t0 = splat(0.0);
+  p.t1 = splat(1.0);
+  p.dt0 = p.dt1 = splat(0.0);
+  p.k0 = p.k1 = splat(-1.0);
+  v4i outside = mask_of(false), upper[3], lower[3];
+  v4d t[3], dt[3];
+  for (int k = 0; k < 3; ++k) {
+    const v4d gp = g[k], gq = next(g[k]);
+    const v4d zero = splat(0.0);
+    outside |= (gp < zero) & (gq < zero);
+    upper[k] = (gp > zero) & (gq < zero);  // leaves L across line k
+    lower[k] = (gp < zero) & (gq > zero);  // enters L across line k
+    const v4d inv = splat(1.0) / (gp - gq);
+    const v4d q = (err[k] + next(err[k])) * vabs(inv);
+    t[k] = gp * inv;
+    dt[k] = select(q <= splat(0.5),
+                   q * (splat(1.0) + splat(2.0) * q) * splat(1.0 + 16.0 * kEps) + splat(4.0 * kEps + kUnderflow),
+                   splat(INFINITY));
+    const v4i up_smaller = upper[k] & (t[k] < p.t1);
+    p.t1 = select(up_smaller, t[k], p.t1);
+    p.dt1 = select(up_smaller, dt[k], p.dt1);
+    p.k1 = select(up_smaller, splat(double(k)), p.k1);
+    const v4i lo_larger = lower[k] & (t[k] > p.t0);
+    p.t0 = select(lo_larger, t[k], p.t0);
+    p.dt0 = select(lo_larger, dt[k], p.dt0);
+    p.k0 = select(lo_larger, splat(double(k)), p.k0);
+  }
+  // Two crossings on one side of an edge must be ordered certainly.
+  v4i uncertain = mask_of(false);
+  for (int a = 0; a < 3; ++a)
+    for (int b = a + 1; b < 3; ++b)
+      uncertain |= ((upper[a] & upper[b]) | (lower[a] & lower[b])) & (vabs(t[a] - t[b]) <= dt[a] + dt[b]);
+  const v4d span = p.t1 - p.t0, slack = p.dt0 + p.dt1 + splat(kEps);
+  p.nonempty = ~outside & (span > slack);
+  const v4i decided = outside | p.nonempty | (-span > slack);
+  p.certain = int(!any(uncertain)) & int(all(decided));
+  return p;
+}
+
+// A corner in S's frame: its point, the bound a of (3) on its moves other than along S's edge,
+// and for a crossing the bound dt of its move along S's edge f (dt = 0, f = 0 otherwise).
+struct Corner {
+  Vec2 p;
+  double a;
+  double dt;
+  int f;
+};
+
+// The point at weight t along S's edge f, in the frame.
+[[gnu::always_inline]] inline Vec2 on_edge(int f, double t) {
+  const double s = 1.0 - t;
+  return f == 0 ? Vec2{t, 0.0} : f == 1 ? Vec2{s, t} : Vec2{0.0, s};
+}
+
+constexpr Vec2 kEdgeDirection[3] = {{1.0, 0.0}, {-1.0, 1.0}, {0.0, -1.0}};
+
+}  // namespace certified
+
+inline Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m) {
+  using namespace certified;
+  bool in_range = true;
+  for (const Triangle* t : {&A, &B})
+    for (const Vec2& v : *t) in_range &= int(std::abs(v.x) <= kRange) & int(std::abs(v.y) <= kRange);
+  if (!in_range) return Certified::kUncertain;
+  const Canonical ca = canonical(A), cb = canonical(B);
+  if (!(ca.certain & cb.certain & (ca.det != cb.det))) return Certified::kUncertain;
+  const bool a_smaller = ca.det < cb.det;
+  const Canonical& S = a_smaller ? ca : cb;
+  if (!(S.det >= kSmallestDet)) return Certified::kUncertain;
+  // Both ways, then selected: a branch on which triangle is smaller mispredicts half the time.
+  v4d gab[3], eab[3], gba[3], eba[3];
+  orientations(ca, cb, gab, eab);  // B's vertices against A's lines
+  orientations(cb, ca, gba, eba);  // A's vertices against B's lines
+  v4d gs[3], es[3], gl[3], el[3];
+  {
+    const v4i m = mask_of(a_smaller);
+    for (int k = 0; k < 3; ++k) {
+      gs[k] = select(m, gab[k], gba[k]);
+      es[k] = select(m, eab[k], eba[k]);
+      gl[k] = select(m, gba[k], gab[k]);
+      el[k] = select(m, eba[k], eab[k]);
+    }
+  }
+  v4i sure = (vabs(gs[0]) > es[0]) & (vabs(gs[1]) > es[1]) & (vabs(gs[2]) > es[2]) & (vabs(gl[0]) > el[0]) &
+             (vabs(gl[1]) > el[1]) & (vabs(gl[2]) > el[2]);
+  if (!all(sure)) return Certified::kUncertain;
+  const v4d zero = splat(0.0);
+  bool separated = false;
+  for (int k = 0; k < 3; ++k) separated |= int(all(gs[k] < zero)) | int(all(gl[k] < zero));
+  if (separated) return Certified::kSeparated;
+
+  const EdgeParts parts = clip_edges(gl, el);
+  if (!parts.certain) return Certified::kUncertain;
+  // The parts' lanes as scalars for the assembly below.
+  struct Part {
+    double t0, t1, dt0, dt1;
+    int k0, k1;
+    bool nonempty;
+  } part[3];
+  for (int f = 0; f < 3; ++f)
+    part[f] = {parts.t0[f], parts.t1[f], parts.dt0[f], parts.dt1[f], int(parts.k0[f]), int(parts.k1[f]), parts.nonempty[f] != 0};
+  const v4i l_inside = (gs[0] > zero) & (gs[1] > zero) & (gs[2] > zero);
+
+  const double det = S.det;
+  const double det_low = (det - S.det_error) * (1.0 - kEps);  // a lower bound on |det(S)|
+  const double inv_det = 1.0 / det, inv_det_low = (1.0 / det_low) * (1.0 + 2.0 * kEps);
+  const double det_rel = S.det_error * inv_det_low * (1.0 + 2.0 * kEps);
+  // Candidate corners, all computed and then selected (branches here would follow random data).
+  // L's vertices in the frame (lanes), used where inside S, with their bounds a of (3): the
+  // weights of S1 and S2 are the orientations against S's edges 2 and 0 over det(S).
+  const v4d vx = gs[2] * splat(inv_det), vy = gs[0] * splat(inv_det);
+  const v4d va = (select(es[2] > es[0], es[2], es[0]) +
+                  splat(2.01 * kEps) * select(vabs(gs[2]) > vabs(gs[0]), vabs(gs[2]), vabs(gs[0]))) *
+                     splat(inv_det_low) +
+                 select(vabs(vx) > vabs(vy), vabs(vx), vabs(vy)) * splat(det_rel);
+  // The ends of S's parts in the frame (lanes f): base_f + t dir_f, (t, 0), (1 - t, t), (0, 1 - t).
+  const v4d base_x = lanes(0.0, 1.0, 0.0, 0.0), base_y = lanes(0.0, 0.0, 1.0, 0.0);
+  const v4d dir_x = lanes(1.0, -1.0, 0.0, 1.0), dir_y = lanes(0.0, 1.0, -1.0, 0.0);
+  const v4d sx0 = base_x + parts.t0 * dir_x, sy0 = base_y + parts.t0 * dir_y;
+  const v4d sx1 = base_x + parts.t1 * dir_x, sy1 = base_y + parts.t1 * dir_y;
+  // Which part of S ends (starts) on L's line e: L's part on edge e starts (ends) there. Slot 3
+  // takes the parts that end (start) at a vertex of S.
+  int start_f[4] = {-1, -1, -1, -1}, end_f[4] = {-1, -1, -1, -1};
+  for (int f = 0; f < 3; ++f) {
+    start_f[(part[f].nonempty & (part[f].k1 >= 0)) ? part[f].k1 : 3] = f;
+    end_f[(part[f].nonempty & (part[f].k0 >= 0)) ? part[f].k0 : 3] = f;
+  }
+
+  double area2 = 0.0, bound = 0.0, magnitude = 0.0;
+  Vec2 first6{0.0, 0.0};
+  // S's part on edge 1 (edges 0 and 2 lie on lines through o: exactly 0): t1 - t0.
+  {
+    const Part& p = part[1];
+    const double term = p.nonempty ? p.t1 - p.t0 : 0.0;
+    area2 += term;
+    first6 = first6 + term * Vec2{(1.0 - p.t0) + (1.0 - p.t1), p.t0 + p.t1};
+    magnitude += std::abs(term);
+    bound += p.nonempty ? 1.01 * kEps * std::abs(term) + 2.0 * (p.dt0 + kEps) * (p.dt1 + kEps) : 0.0;  // (4), second order
+  }
+  // L's parts.
+  bool consistent = true;
+  for (int e = 0; e < 3; ++e) {
+    const int i = e, j = e == 2 ? 0 : e + 1;
+    const int fs = start_f[e], fe = end_f[e];
+    const bool cross0 = fs >= 0, cross1 = fe >= 0;
+    const int f0 = cross0 ? fs : 0, f1 = cross1 ? fe : 0;
+    const bool has0 = cross0 | (l_inside[i] != 0), has1 = cross1 | (l_inside[j] != 0);
+    consistent &= has0 == has1;
+    // Start: where S's part on f0 ends (t1), or L's vertex i; end: where S's part on f1 starts
+    // (t0), or L's vertex j.
+    const Vec2 p0 = {cross0 ? sx1[f0] : vx[i], cross0 ? sy1[f0] : vy[i]};
+    const Vec2 p1 = {cross1 ? sx0[f1] : vx[j], cross1 ? sy0[f1] : vy[j]};
+    const double a0 = cross0 ? 1.01 * kEps : va[i], a1 = cross1 ? 1.01 * kEps : va[j];
+    const double dt0 = cross0 ? part[f0].dt1 : 0.0, dt1 = cross1 ? part[f1].dt0 : 0.0;
+    const double l = p0.x * p1.y, r = p0.y * p1.x;
+    const double term = has0 ? l - r : 0.0;
+    area2 += term;
+    first6 = first6 + term * (p0 + p1);
+    magnitude += std::abs(term);
+    // (3), each corner once: a crossing ends exactly one part of S and one of L (its move
+    // along f here, where its side along L's edge is), a vertex of L starts one part of L.
+    const Vec2 w = p1 - p0;
+    const double wa = a0 + dt0 + a1 + dt1;
+    const auto along = [&](double dt, int f) {
+      const Vec2 d = kEdgeDirection[f];
+      return dt * (std::abs(d.x * w.y - d.y * w.x) + (std::abs(d.x) + std::abs(d.y)) * wa);
+    };
+    const double b = 2.01 * kEps * (std::abs(l) + std::abs(r)) +  // (4)
+                     along(dt0, f0) + along(dt1, f1) + 2.0 * a0 + (cross1 ? 2.0 * a1 : 0.0) +
+                     2.0 * (a0 + dt0) * (a1 + dt1);  // second order
+    bound += has0 ? b : 0.0;
+  }
+  if (!consistent) return Certified::kUncertain;  // not with certain decisions
+  bound = (bound + 3.01 * kEps * magnitude) * (1.0 + 16.0 * kEps);
+  // (5), relative to the smaller triangle's doubled area (at least det_low).
+  const double bound_world = (bound * det + std::abs(area2) * S.det_error) * (1.0 + 64.0 * kEps) + kEps * std::abs(area2) * det;
+  if (!(bound_world <= kAcceptedError * det_low) || !(area2 * det >= kSmallestFraction * det_low))
+    return Certified::kUncertain;
+  m.area = 0.5 * (area2 * det);
+  const Vec2 e1 = S.p[1] - S.p[0], e2 = S.p[2] - S.p[0];
+  m.first = m.area * S.p[0] + (det * (1.0 / 6.0)) * (first6.x * e1 + first6.y * e2);
+  return Certified::kCertified;
+}
+
+}  // namespace
+}  // namespace detail2
+}  // namespace tetia
