@@ -7,7 +7,9 @@
 //    of it less that;
 //  - "certainly apart" (certified, area 0) means an exact area of 0;
 //  - the result is the same bits in every vertex order and argument order, from every entry
-//    point (area, moments, polygon), and the polygon is not empty;
+//    point (area, moments, polygon), and the polygon is not empty; the polygon (built from the
+//    formula's parts) has consecutive corners on a common line, coordinates exactly 0 on B's
+//    edges, and barycentric coordinates that give its points;
 //  - on random pairs the formula decides nearly every pair whose boxes overlap (if it stopped
 //    deciding, the kernel would still give right answers, and nothing else would notice).
 //
@@ -64,6 +66,27 @@ void check(const Triangle& A, const Triangle& B, Tally& t, const char* what) {
     if (!(rel <= kAccepted)) fail = "error " + fmt(rel) + " of the smaller triangle, above 2^-47";
     if (!(mpq_class(area) >= smaller * (0x1p-30 - kAccepted))) fail = "certified area below 2^-30 of the smaller";
     if (P.empty()) fail = "certified area, empty polygon";
+  }
+  // The polygon built from the formula's parts: consecutive corners share a label, a label of
+  // B's edge p means barycentric coordinate p exactly 0, and the coordinates give the point.
+  {
+    double bmax = 0.0;
+    for (const Vec2& q : B) bmax = std::max({bmax, std::abs(q.x), std::abs(q.y)});
+    const double dB = diameter(B);
+    const int n = P.num_corners();
+    for (int k = 0; k < n; ++k) {
+      const PolygonCorner& c = P.corner(k);
+      const PolygonCorner& d = P.corner((k + 1) % n);
+      if (c.labels[0] != d.labels[0] && c.labels[0] != d.labels[1] && c.labels[1] != d.labels[0] &&
+          c.labels[1] != d.labels[1])
+        fail = "consecutive corners share no label";
+      for (const std::uint8_t l : c.labels)
+        if (l >= 3 && c.bary[l - 3] != 0.0) fail = "on B's edge, but its coordinate is not 0";
+      const Vec2 q = c.bary[0] * B[0] + c.bary[1] * B[1] + c.bary[2] * B[2];
+      if (!(std::abs(c.bary[0] + c.bary[1] + c.bary[2] - 1.0) <= 1e-12) ||
+          !(std::hypot(q.x - c.point.x, q.y - c.point.y) <= 1e-12 * dB + 16 * 0x1p-53 * bmax))
+        fail = "barycentric coordinates do not give the point";
+    }
   }
   // Every vertex order and both argument orders: the same bits.
   for (const auto& pa : kPerms3)

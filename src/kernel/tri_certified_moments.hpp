@@ -106,6 +106,7 @@ constexpr double kSmallestDet = 0x1p-600;
 // det = (p1 - p0) x (p2 - p0) > det_error (its error bound) when `certain`.
 struct Canonical {
   Vec2 p[3];
+  int index[3];  // the caller's index of vertex p[k]
   double det;
   double det_error;
   bool certain;
@@ -120,6 +121,7 @@ struct Canonical {
   c.p[0] = t[m];
   c.p[1] = t[kNext[m]];
   c.p[2] = t[kPrev[m]];
+  c.index[0] = m;
   const Vec2 e1 = c.p[1] - c.p[0], e2 = c.p[2] - c.p[0];
   const double l = e1.x * e2.y, r = e1.y * e2.x;
   const double det = l - r;
@@ -128,6 +130,8 @@ struct Canonical {
   const Vec2 p1 = c.p[1];
   c.p[1] = flip ? c.p[2] : p1;
   c.p[2] = flip ? p1 : c.p[2];
+  c.index[1] = flip ? kPrev[m] : kNext[m];
+  c.index[2] = flip ? kNext[m] : kPrev[m];
   c.det = std::abs(det);
   c.det_error = kOrientBound * (std::abs(l) + std::abs(r)) + kUnderflow;
   // Equal abscissas would make the first vertex depend on the input's order.
@@ -277,7 +281,26 @@ constexpr Vec2 kEdgeDirection[3] = {{1.0, 0.0}, {-1.0, 1.0}, {0.0, -1.0}};
 
 }  // namespace certified
 
-inline Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m) {
+// What a Polygon is built from where the formula certified (tri_kernel.hpp, PolygonBuilder):
+// the two canonical triangles, the orientations, and how the parts connect.
+struct CertifiedShape {
+  bool s_is_a;  // S is the caller's A
+  certified::Canonical S, L;
+  double gs[3][3];  // S's edge line k at L's vertex i: gs[k][i]
+  double gl[3][3];  // L's edge line k at S's vertex f: gl[k][f]
+  struct Part {
+    double t0, t1;
+    int k0, k1;  // the line of L the part of S's edge starts (ends) on; -1: S's vertex
+    bool nonempty;
+  } part[3];
+  int start_f[3], end_f[3];  // L's part on edge e starts where S's part start_f[e] ends (-1: L's vertex e), ...
+  bool l_inside[3];          // L's vertex i is inside S
+};
+
+// kFirst: the first moments too (else m.first is left alone; the area's bits do not depend on it).
+// shape: where not null and the result is certified, what intersect() builds its polygon from.
+template <bool kFirst>
+Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, CertifiedShape* shape = nullptr) {
   using namespace certified;
   bool in_range = true;
   for (const Triangle* t : {&A, &B})
@@ -354,7 +377,7 @@ inline Certified certified_moments(const Triangle& A, const Triangle& B, Moments
     const Part& p = part[1];
     const double term = p.nonempty ? p.t1 - p.t0 : 0.0;
     area2 += term;
-    first6 = first6 + term * Vec2{(1.0 - p.t0) + (1.0 - p.t1), p.t0 + p.t1};
+    if constexpr (kFirst) first6 = first6 + term * Vec2{(1.0 - p.t0) + (1.0 - p.t1), p.t0 + p.t1};
     magnitude += std::abs(term);
     bound += p.nonempty ? 1.01 * kEps * std::abs(term) + 2.0 * (p.dt0 + kEps) * (p.dt1 + kEps) : 0.0;  // (4), second order
   }
@@ -376,7 +399,7 @@ inline Certified certified_moments(const Triangle& A, const Triangle& B, Moments
     const double l = p0.x * p1.y, r = p0.y * p1.x;
     const double term = has0 ? l - r : 0.0;
     area2 += term;
-    first6 = first6 + term * (p0 + p1);
+    if constexpr (kFirst) first6 = first6 + term * (p0 + p1);
     magnitude += std::abs(term);
     // (3), each corner once: a crossing ends exactly one part of S and one of L (its move
     // along f here, where its side along L's edge is), a vertex of L starts one part of L.
@@ -398,8 +421,25 @@ inline Certified certified_moments(const Triangle& A, const Triangle& B, Moments
   if (!(bound_world <= kAcceptedError * det_low) || !(area2 * det >= kSmallestFraction * det_low))
     return Certified::kUncertain;
   m.area = 0.5 * (area2 * det);
-  const Vec2 e1 = S.p[1] - S.p[0], e2 = S.p[2] - S.p[0];
-  m.first = m.area * S.p[0] + (det * (1.0 / 6.0)) * (first6.x * e1 + first6.y * e2);
+  if constexpr (kFirst) {
+    const Vec2 e1 = S.p[1] - S.p[0], e2 = S.p[2] - S.p[0];
+    m.first = m.area * S.p[0] + (det * (1.0 / 6.0)) * (first6.x * e1 + first6.y * e2);
+  }
+  if (shape) {
+    shape->s_is_a = a_smaller;
+    shape->S = S;
+    shape->L = a_smaller ? cb : ca;
+    for (int k = 0; k < 3; ++k) {
+      for (int i = 0; i < 3; ++i) {
+        shape->gs[k][i] = gs[k][i];
+        shape->gl[k][i] = gl[k][i];
+      }
+      shape->part[k] = {part[k].t0, part[k].t1, part[k].k0, part[k].k1, part[k].nonempty};
+      shape->start_f[k] = start_f[k];
+      shape->end_f[k] = end_f[k];
+      shape->l_inside[k] = l_inside[k] != 0;
+    }
+  }
   return Certified::kCertified;
 }
 

@@ -1074,6 +1074,131 @@ struct PolygonBuilder {
   // the same bits.
   static void set_moments(Polygon& P, const Moments2& m) { P.moments_ = m; }
 
+  // The polygon of a certified result, from the formula's own parts (tri_certified_moments.hpp)
+  // instead of the kernel: its signs are all certain there, so the parts are the exact
+  // intersection's sides, in the same order. The boundary is walked counter-clockwise: after
+  // S's part on edge f comes L's part on the line it ends on (or S's part on edge f + 1, from
+  // S's vertex f + 1); after L's part on edge e, S's part that starts on line e (or L's part on
+  // edge e + 1). Each corner starts one part: a vertex of S or L (exact input), or a crossing
+  // of S's edge f, at its weight t along f (its point as the kernel makes one on the smaller
+  // triangle's edge). Labels and barycentric coordinates in B, in the caller's numbering, with
+  // the coordinate of B's vertex opposite an edge the corner lies on exactly 0: where B is S, a
+  // crossing's are its weight along S's edge; where B is L, S's vertices' coordinates in L
+  // interpolated with that weight (crossing_coordinates); a vertex of one triangle inside the
+  // other gets its orientations over the determinant, clamped to >= 0 and summing to 1, as the
+  // kernel does. False (the kernel then builds it) if the walk does not close within the corners
+  // it may have (never seen).
+  static bool fill_certified(Polygon& P, const detail2::CertifiedShape& sh, const Moments2& m) {
+    const detail2::certified::Canonical& S = sh.S;
+    const detail2::certified::Canonical& L = sh.L;
+    const int s_base = sh.s_is_a ? 0 : 3, l_base = sh.s_is_a ? 3 : 0;
+    // Edge k (from p[k] to p[k + 1]) is the caller's edge opposite p[k + 2].
+    const auto s_edge = [&](int f) { return s_base + S.index[(f + 2) % 3]; };
+    const auto l_edge = [&](int e) { return l_base + L.index[(e + 2) % 3]; };
+    const bool b_is_s = !sh.s_is_a;
+    const detail2::certified::Canonical& Bc = b_is_s ? S : L;
+    // A vertex of the other triangle inside B: orientations against B's edge lines, which
+    // are the coordinates times det(B) (coordinate v: the edge opposite v, edge v + 1).
+    const auto inside_coordinates = [&](const double (&g)[3][3], int i, double (&b)[3]) {
+      double sum = 0.0;
+      for (int v = 0; v < 3; ++v) {
+        b[v] = std::max(g[(v + 1) % 3][i] / Bc.det, 0.0);
+        sum += b[v];
+      }
+      for (double& v : b) v = sum > 0.0 ? v / sum : 1.0 / 3.0;
+    };
+    // A crossing of S's edge f (weight t) with L's edge k, in L's coordinates: those of S's
+    // vertices f and f + 1 interpolated with t, as the point is (a weight along L's edge from
+    // the orientations of its ends would be far less accurate where the edges are nearly
+    // parallel), the one of L's vertex opposite edge k exactly 0.
+    const auto crossing_coordinates = [&](int f, double t, int k, double (&b)[3]) {
+      const int g = (f + 1) % 3;
+      double sum = 0.0;
+      for (int v = 0; v < 3; ++v) {
+        const int line = (v + 1) % 3;
+        const double c = v == (k + 2) % 3 ? 0.0 : ((1.0 - t) * sh.gl[line][f] + t * sh.gl[line][g]) / L.det;
+        b[v] = std::max(c, 0.0);
+        sum += b[v];
+      }
+      if (!(sum > 0.0)) {  // (never: the point lies on L's edge k) its midpoint
+        b[k] = b[(k + 1) % 3] = 0.5;
+        sum = 1.0;
+      }
+      for (double& v : b) v /= sum;
+    };
+    int n = 0;
+    // Segments: 0-2 S's parts, 3-5 L's parts (3 + e).
+    int first = -1;
+    for (int e = 0; e < 3 && first < 0; ++e)
+      if (sh.start_f[e] >= 0 || sh.l_inside[e]) first = 3 + e;
+    for (int f = 0; f < 3 && first < 0; ++f)
+      if (sh.part[f].nonempty) first = f;
+    if (first < 0) return false;
+    int seg = first;
+    do {
+      if (n == Polygon::max_corners) return false;
+      PolygonCorner& out = P.corners_[static_cast<std::size_t>(n++)];
+      double b[3] = {0.0, 0.0, 0.0};  // in B's canonical order
+      int la, lb;
+      if (seg < 3) {
+        const int f = seg, g = (f + 1) % 3;
+        const detail2::CertifiedShape::Part& part = sh.part[f];
+        if (part.k0 >= 0) {  // crossing of S's edge f with L's line k0, at t0
+          const int k = part.k0;
+          out.point = S.p[f] + part.t0 * (S.p[g] - S.p[f]);
+          la = s_edge(f);
+          lb = l_edge(k);
+          if (b_is_s) {
+            b[f] = 1.0 - part.t0;
+            b[g] = part.t0;
+          } else {
+            crossing_coordinates(f, part.t0, k, b);
+          }
+        } else {  // S's vertex f
+          out.point = S.p[f];
+          la = s_edge((f + 2) % 3);
+          lb = s_edge(f);
+          if (b_is_s)
+            b[f] = 1.0;
+          else
+            inside_coordinates(sh.gl, f, b);
+        }
+        seg = part.k1 >= 0 ? 3 + part.k1 : g;
+      } else {
+        const int e = seg - 3;
+        const int fs = sh.start_f[e];
+        if (fs >= 0) {  // crossing of S's edge fs with L's line e, where S's part on fs ends
+          const int g = (fs + 1) % 3;
+          const double t = sh.part[fs].t1;
+          out.point = S.p[fs] + t * (S.p[g] - S.p[fs]);
+          la = s_edge(fs);
+          lb = l_edge(e);
+          if (b_is_s) {
+            b[fs] = 1.0 - t;
+            b[g] = t;
+          } else {
+            crossing_coordinates(fs, t, e, b);
+          }
+        } else {  // L's vertex e
+          out.point = L.p[e];
+          la = l_edge((e + 2) % 3);
+          lb = l_edge(e);
+          if (b_is_s)
+            inside_coordinates(sh.gs, e, b);
+          else
+            b[e] = 1.0;
+        }
+        seg = sh.end_f[e] >= 0 ? sh.end_f[e] : 3 + (e + 1) % 3;
+      }
+      out.labels = {static_cast<std::uint8_t>(std::min(la, lb)), static_cast<std::uint8_t>(std::max(la, lb))};
+      for (int v = 0; v < 3; ++v) out.bary[static_cast<std::size_t>(Bc.index[v])] = b[v];
+    } while (seg != first);
+    P.num_corners_ = n;
+    touched_edges(P);
+    P.moments_ = m;
+    return true;
+  }
+
   // The exact last resort's polygon (exact_fallback.hpp): already in the caller's numbering.
   static void fill_exact(Polygon& P, const detail::ExactPolygon& x) {
     P.num_corners_ = x.num_corners;
@@ -1121,9 +1246,10 @@ using Builder = PolygonBuilder<TriTag>;
 // whose boxes overlap: where it decides, its area and first moments are the result, bit for
 // bit the same from every entry point (the polygon's corners, where asked for, still come from
 // the kernel); elsewhere the kernel decides, as before.
+template <bool kFirst>
 detail2::Certified certified_first(const Triangle& A, const Triangle& B, Moments2& m) {
   if (detail2::boxes_disjoint(A, B)) return detail2::Certified::kSeparated;
-  return detail2::certified_moments(A, B, m);
+  return detail2::certified_moments<kFirst>(A, B, m);
 }
 
 // tetia::intersect (2D).
@@ -1132,9 +1258,11 @@ Polygon tri_intersect(const Triangle& A, const Triangle& B, TriIntersectionStats
   if (stats) ++stats->calls;
   if (detail2::boxes_disjoint(A, B)) return P;
   Moments2 certified;
-  const detail2::Certified how = detail2::certified_moments(A, B, certified);
+  detail2::CertifiedShape shape;
+  const detail2::Certified how = detail2::certified_moments<true>(A, B, certified, &shape);
   if (stats && how != detail2::Certified::kUncertain) ++stats->certified;
   if (how == detail2::Certified::kSeparated) return P;
+  if (how == detail2::Certified::kCertified && Builder::fill_certified(P, shape, certified)) return P;
   detail2::Frame fr;
   detail2::KernelResult res;
   int scale = 0;
@@ -1167,7 +1295,7 @@ Polygon tri_intersect(const Triangle& A, const Triangle& B, TriIntersectionStats
 // tetia::intersection_moments (2D).
 Moments2 tri_moments(const Triangle& A, const Triangle& B) {
   Moments2 certified;
-  switch (certified_first(A, B, certified)) {
+  switch (certified_first<true>(A, B, certified)) {
     case detail2::Certified::kSeparated:
       return {};
     case detail2::Certified::kCertified:
@@ -1197,7 +1325,7 @@ Moments2 tri_moments(const Triangle& A, const Triangle& B) {
 // tetia::intersection_area.
 double tri_area(const Triangle& A, const Triangle& B) {
   Moments2 certified;
-  switch (certified_first(A, B, certified)) {
+  switch (certified_first<false>(A, B, certified)) {
     case detail2::Certified::kSeparated:
       return 0.0;
     case detail2::Certified::kCertified:
