@@ -85,8 +85,8 @@
 // No allocation per pair: each thread keeps its buffers and its pieces until the final merge.
 //
 // Kept data: where polyhedra, mixed mass matrices or a consumer's numbers are needed, the full
-// kernel runs (in 3D on every candidate, in 2D on each piece after the fast path; the same
-// moments bit for bit). keep_polyhedra stores the whole polyhedron (polygon) per piece;
+// kernel runs (in 3D on every candidate, in 2D as intersect() on every candidate instead of
+// intersection_moments; the same moments bit for bit). keep_polyhedra stores the whole polyhedron (polygon) per piece;
 // keep_mixed_mass computes the piece's local mixed mass matrix from it while it is at hand
 // (src/supermesh/mixed_mass.hpp, the function the remap uses on kept polyhedra) and stores only
 // those 16 (9) numbers, merged in the same order as the pieces.
@@ -520,18 +520,20 @@ class Worker {
     // s or t alone is computed once (OneToMany), and the kernel's facets tell which faces of t
     // s may cross. The whole polyhedron (polygon) is needed where shapes, mixed mass matrices or
     // a consumer's numbers are: in 3D one full kernel call then, with the same facets; in 2D
-    // the moments first, and the polygon only for a piece.
+    // the polygon, whose moments are the same bits.
     const bool shaped = sh_.keep_shapes || sh_.keep_mass || sh_.values_per_piece != 0;
     typename Dm::Moments m;
     if constexpr (Dm::d == 3) {
       if (!one_) one_.emplace(S_);  // on the first candidate: many cells (outside the target) have none
       m = shaped ? one_->intersect(T_, rec.conditioning, shape_, &crossed_) : one_->moments(T_, rec.conditioning, &crossed_);
+    } else if (shaped) {
+      shape_ = intersect(S_, T_);  // its moments are intersection_moments' bits
+      m = shape_.moments();
     } else {
       m = intersection_moments(S_, T_);
     }
     if (!(Dm::measure(m) > floor)) return false;
     if (shaped) {
-      if constexpr (Dm::d == 2) shape_ = intersect(S_, T_);
       if (sh_.values_per_piece != 0) {  // the consumer's numbers, from the piece with its cells' indices
         // An exception must not leave an OpenMP region: it is kept, and rethrown after it.
         double* values = values_.append();
