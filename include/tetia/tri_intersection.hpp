@@ -23,7 +23,7 @@
 //    ratio (to 1e16 tested), sliver height (to 1e-12), scale (2^-500 to 2^500) and distance from
 //    the origin (2^50) (tests/test_tri_vs_exact.cpp, the Adversarial family); tangent contacts
 //    give an empty polygon. Pairs in general position (every orientation of a vertex against
-//    the other triangle's edge lines certain; 97 % of random pairs whose boxes overlap) get
+//    the other triangle's edge lines certain; 96 % of random pairs whose boxes overlap) get
 //    their area and first moments from a formula with a derived error bound, within 2^-47 of
 //    the smaller triangle (src/kernel/tri_certified_moments.hpp, tests/test_tri_certified.cpp);
 //    their polygon's corners still come from the kernel.

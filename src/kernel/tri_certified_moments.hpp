@@ -58,9 +58,11 @@
 //      sum_i d_i x (V_{i+1} - V_{i-1}) + sum_i d_i x d_{i+1}. A crossing moves along S's edge f
 //      by dt (d_f = (1, 0), (-1, 1), (0, -1) in the frame): one of its neighbours lies along f,
 //      which cancels, the other along L's edge, w = the exact side on L's edge, so its term is at
-//      most dt |d_f x w| <= dt (|d_f x w_computed| + |d_f|_1 (a_0 + a_1)), a the ends' bounds.
+//      most dt |d_f x w| <= dt (|d_f x w_computed| + |d_f|_1 m), m the max-norm bound of the
+//      ends' other moves (the crossing's own move along f is parallel to d_f: it does not count).
 //      (This is why a shallow crossing, whose t is ill-conditioned, costs little: the side it
-//      slides along is nearly parallel to f.) Everything else (the rounding of 1 - t, the
+//      slides along is nearly parallel to f.) S's side on edge 1 adds t1 - t0, linear in the
+//      ends' weights: no second order there. Everything else (the rounding of 1 - t, the
 //      coordinates of a vertex of L: (E_k + 2.01 eps |g_k|) / det + |lambda| rel(det), rel(det)
 //      = det's error bound over det less it) moves a corner by at most a in the max norm, and
 //      |V_{i+1} - V_{i-1}|_1 <= 2 in the unit triangle: 2 a. Second order: 2 |d_0|_inf |d_1|_inf
@@ -305,15 +307,22 @@ Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, C
   bool in_range = true;
   for (const Triangle* t : {&A, &B})
     for (const Vec2& v : *t) in_range &= int(std::abs(v.x) <= kRange) & int(std::abs(v.y) <= kRange);
-  if (!in_range) return Certified::kUncertain;
+  // A shared vertex has orientation exactly 0 against two of the other's lines: uncertain, and
+  // common in meshes (neighbours, identical cells), so decided before anything else.
+  bool shared = false;
+  for (const Vec2& a : A)
+    for (const Vec2& b : B) shared |= int(a.x == b.x) & int(a.y == b.y);
+  if (!in_range || shared) return Certified::kUncertain;
   const Canonical ca = canonical(A), cb = canonical(B);
   if (!(ca.certain & cb.certain & (ca.det != cb.det))) return Certified::kUncertain;
   const bool a_smaller = ca.det < cb.det;
   const Canonical& S = a_smaller ? ca : cb;
   if (!(S.det >= kSmallestDet)) return Certified::kUncertain;
   // Both ways, then selected: a branch on which triangle is smaller mispredicts half the time.
+  // One way first: near-identical triangles, and neighbours in a mesh, stop there.
   v4d gab[3], eab[3], gba[3], eba[3];
   orientations(ca, cb, gab, eab);  // B's vertices against A's lines
+  if (!all((vabs(gab[0]) > eab[0]) & (vabs(gab[1]) > eab[1]) & (vabs(gab[2]) > eab[2]))) return Certified::kUncertain;
   orientations(cb, ca, gba, eba);  // A's vertices against B's lines
   v4d gs[3], es[3], gl[3], el[3];
   {
@@ -325,9 +334,7 @@ Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, C
       el[k] = select(m, eba[k], eab[k]);
     }
   }
-  v4i sure = (vabs(gs[0]) > es[0]) & (vabs(gs[1]) > es[1]) & (vabs(gs[2]) > es[2]) & (vabs(gl[0]) > el[0]) &
-             (vabs(gl[1]) > el[1]) & (vabs(gl[2]) > el[2]);
-  if (!all(sure)) return Certified::kUncertain;
+  if (!all((vabs(gba[0]) > eba[0]) & (vabs(gba[1]) > eba[1]) & (vabs(gba[2]) > eba[2]))) return Certified::kUncertain;
   const v4d zero = splat(0.0);
   bool separated = false;
   for (int k = 0; k < 3; ++k) separated |= int(all(gs[k] < zero)) | int(all(gl[k] < zero));
@@ -379,7 +386,8 @@ Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, C
     area2 += term;
     if constexpr (kFirst) first6 = first6 + term * Vec2{(1.0 - p.t0) + (1.0 - p.t1), p.t0 + p.t1};
     magnitude += std::abs(term);
-    bound += p.nonempty ? 1.01 * kEps * std::abs(term) + 2.0 * (p.dt0 + kEps) * (p.dt1 + kEps) : 0.0;  // (4), second order
+    // (4); no second order: the term is linear in t0 and t1 (both ends move along edge 1).
+    bound += p.nonempty ? 1.01 * kEps * std::abs(term) : 0.0;
   }
   // L's parts.
   bool consistent = true;
@@ -403,15 +411,16 @@ Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, C
     magnitude += std::abs(term);
     // (3), each corner once: a crossing ends exactly one part of S and one of L (its move
     // along f here, where its side along L's edge is), a vertex of L starts one part of L.
+    // The side w = p1 - p0 is the computed one: the exact one differs by the ends' moves, but
+    // an end's own move along its edge f does not count in d_f x w.
     const Vec2 w = p1 - p0;
-    const double wa = a0 + dt0 + a1 + dt1;
-    const auto along = [&](double dt, int f) {
+    const auto along = [&](double dt, int f, double moves) {
       const Vec2 d = kEdgeDirection[f];
-      return dt * (std::abs(d.x * w.y - d.y * w.x) + (std::abs(d.x) + std::abs(d.y)) * wa);
+      return dt * (std::abs(d.x * w.y - d.y * w.x) + (std::abs(d.x) + std::abs(d.y)) * moves);
     };
     const double b = 2.01 * kEps * (std::abs(l) + std::abs(r)) +  // (4)
-                     along(dt0, f0) + along(dt1, f1) + 2.0 * a0 + (cross1 ? 2.0 * a1 : 0.0) +
-                     2.0 * (a0 + dt0) * (a1 + dt1);  // second order
+                     along(dt0, f0, a0 + a1 + dt1) + along(dt1, f1, a0 + dt0 + a1) + 2.0 * a0 +
+                     (cross1 ? 2.0 * a1 : 0.0) + 2.0 * (a0 + dt0) * (a1 + dt1);  // second order
     bound += has0 ? b : 0.0;
   }
   if (!consistent) return Certified::kUncertain;  // not with certain decisions
