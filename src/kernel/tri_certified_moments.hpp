@@ -79,6 +79,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 
 #include "tetia/geometry.hpp"
 #include "tetia/polygon.hpp"  // Moments2
@@ -198,8 +203,18 @@ TETIA_LANES_OP(v4i, v4i, |)
 [[gnu::always_inline]] inline v4d next(const v4d& x) { return {__builtin_shufflevector(x.lo, x.hi, 1, 2), x.lo}; }
 #endif
 [[gnu::always_inline]] inline v4d splat(double x) { return lanes(x, x, x, x); }
-[[gnu::always_inline]] inline bool all(const v4i& m) { return (m[0] & m[1] & m[2] & m[3]) != 0; }
-[[gnu::always_inline]] inline bool any(const v4i& m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
+// Bit k: lane k of a mask (lanes are all ones or all zeros).
+[[gnu::always_inline]] inline unsigned bits(const v4i& m) {
+#if defined(__AVX__)
+  return unsigned(_mm256_movemask_pd(__m256d(m)));
+#elif defined(__SSE2__)
+  return unsigned(_mm_movemask_pd(__m128d(m.lo))) | unsigned(_mm_movemask_pd(__m128d(m.hi))) << 2;
+#else
+  return unsigned(m[0] & 1) | unsigned(m[1] & 1) << 1 | unsigned(m[2] & 1) << 2 | unsigned(m[3] & 1) << 3;
+#endif
+}
+[[gnu::always_inline]] inline bool all(const v4i& m) { return bits(m) == 15u; }
+[[gnu::always_inline]] inline bool any(const v4i& m) { return bits(m) != 0u; }
 
 // Orientations of x's three vertices (lanes) against t's edge line k (from t.p[k] to
 // t.p[k + 1]), positive inside, with their error bounds: g[k], e[k].
@@ -342,15 +357,24 @@ Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, C
 
   const EdgeParts parts = clip_edges(gl, el);
   if (!parts.certain) return Certified::kUncertain;
-  // The parts' lanes as scalars for the assembly below.
+  // The parts' lanes as scalars for the assembly below (through memory: one store a vector).
   struct Part {
     double t0, t1, dt0, dt1;
     int k0, k1;
     bool nonempty;
   } part[3];
-  for (int f = 0; f < 3; ++f)
-    part[f] = {parts.t0[f], parts.t1[f], parts.dt0[f], parts.dt1[f], int(parts.k0[f]), int(parts.k1[f]), parts.nonempty[f] != 0};
-  const v4i l_inside = (gs[0] > zero) & (gs[1] > zero) & (gs[2] > zero);
+  {
+    double t0[4], t1[4], dt0[4], dt1[4], k0[4], k1[4];
+    std::memcpy(t0, &parts.t0, sizeof t0);
+    std::memcpy(t1, &parts.t1, sizeof t1);
+    std::memcpy(dt0, &parts.dt0, sizeof dt0);
+    std::memcpy(dt1, &parts.dt1, sizeof dt1);
+    std::memcpy(k0, &parts.k0, sizeof k0);
+    std::memcpy(k1, &parts.k1, sizeof k1);
+    const unsigned nonempty = bits(parts.nonempty);
+    for (int f = 0; f < 3; ++f) part[f] = {t0[f], t1[f], dt0[f], dt1[f], int(k0[f]), int(k1[f]), ((nonempty >> f) & 1u) != 0};
+  }
+  const unsigned l_inside = bits((gs[0] > zero) & (gs[1] > zero) & (gs[2] > zero));
 
   const double det = S.det;
   const double det_low = (det - S.det_error) * (1.0 - kEps);  // a lower bound on |det(S)|
@@ -396,7 +420,7 @@ Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, C
     const int fs = start_f[e], fe = end_f[e];
     const bool cross0 = fs >= 0, cross1 = fe >= 0;
     const int f0 = cross0 ? fs : 0, f1 = cross1 ? fe : 0;
-    const bool has0 = cross0 | (l_inside[i] != 0), has1 = cross1 | (l_inside[j] != 0);
+    const bool has0 = cross0 | (((l_inside >> i) & 1u) != 0), has1 = cross1 | (((l_inside >> j) & 1u) != 0);
     consistent &= has0 == has1;
     // Start: where S's part on f0 ends (t1), or L's vertex i; end: where S's part on f1 starts
     // (t0), or L's vertex j.
@@ -446,7 +470,7 @@ Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, C
       shape->part[k] = {part[k].t0, part[k].t1, part[k].k0, part[k].k1, part[k].nonempty};
       shape->start_f[k] = start_f[k];
       shape->end_f[k] = end_f[k];
-      shape->l_inside[k] = l_inside[k] != 0;
+      shape->l_inside[k] = ((l_inside >> k) & 1u) != 0;
     }
   }
   return Certified::kCertified;
