@@ -187,6 +187,7 @@ TETIA_LANES_OP(v4d, v4d, /)
 TETIA_LANES_OP(v4i, v4d, <)
 TETIA_LANES_OP(v4i, v4d, >)
 TETIA_LANES_OP(v4i, v4d, <=)
+TETIA_LANES_OP(v4i, v4d, ==)
 TETIA_LANES_OP(v4i, v4i, &)
 TETIA_LANES_OP(v4i, v4i, |)
 #undef TETIA_LANES_OP
@@ -319,15 +320,18 @@ struct CertifiedShape {
 template <bool kFirst>
 Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, CertifiedShape* shape = nullptr) {
   using namespace certified;
-  bool in_range = true;
-  for (const Triangle* t : {&A, &B})
-    for (const Vec2& v : *t) in_range &= int(std::abs(v.x) <= kRange) & int(std::abs(v.y) <= kRange);
-  // A shared vertex has orientation exactly 0 against two of the other's lines: uncertain, and
-  // common in meshes (neighbours, identical cells), so decided before anything else.
-  bool shared = false;
-  for (const Vec2& a : A)
-    for (const Vec2& b : B) shared |= int(a.x == b.x) & int(a.y == b.y);
-  if (!in_range || shared) return Certified::kUncertain;
+  {
+    const v4d ax = lanes(A[0].x, A[1].x, A[2].x, A[0].x), ay = lanes(A[0].y, A[1].y, A[2].y, A[0].y);
+    const v4d bx = lanes(B[0].x, B[1].x, B[2].x, B[0].x), by = lanes(B[0].y, B[1].y, B[2].y, B[0].y);
+    const v4d range = splat(kRange);
+    const bool in_range = all((vabs(ax) <= range) & (vabs(ay) <= range) & (vabs(bx) <= range) & (vabs(by) <= range));
+    // A shared vertex has orientation exactly 0 against two of the other's lines: uncertain, and
+    // common in meshes (neighbours, identical cells), so decided before anything else. B's
+    // vertices against A's, in B's three rotations.
+    const v4d bx1 = next(bx), by1 = next(by), bx2 = next(bx1), by2 = next(by1);
+    const bool shared = any(((ax == bx) & (ay == by)) | ((ax == bx1) & (ay == by1)) | ((ax == bx2) & (ay == by2)));
+    if (!in_range || shared) return Certified::kUncertain;
+  }
   const Canonical ca = canonical(A), cb = canonical(B);
   if (!(ca.certain & cb.certain & (ca.det != cb.det))) return Certified::kUncertain;
   const bool a_smaller = ca.det < cb.det;
