@@ -45,15 +45,17 @@
 //      plus 2^-1000 for roundings in the subnormal range (the bound assumes none). All 18 must
 //      have |g| > E (certain signs), and det(S), det(L) likewise.
 //  (2) A crossing t = g_p * (1 / (g_p - g_q)) is within dt of the exact one:
-//      dt = Q (1 + 2 Q)(1 + 16 eps) + 4 eps, Q = (E_p + E_q) |1 / (g_p - g_q)| <= 1/2. (The
-//      quotient of computed g's moves from the exact t by at most
-//      (E_p + E_q) / (|g_p - g_q| - E_p - E_q) = Q / (1 - Q) <= Q (1 + 2 Q): on the box of radii
-//      E_p, E_q the signs do not change, and |d/dx x / (x - y)| |y| ... <= 1 / |x - y|; three
-//      roundings and Q's own add the rest.) t0 = max(0, lower ones) and t1 = min(1, upper ones)
-//      are within the dt of the one chosen, provided the choice is certain: two crossings on one
-//      side of an edge must differ by more than their dt's, and a part is certainly non-empty
-//      (t1 - t0 > dt0 + dt1 + eps) or certainly empty. Then the computed corners are the exact
-//      ones, moved, in the same combinatorial order.
+//      dt = Q (1 + 2 Q)(1 + 16 eps) + 4 eps, Q = (E_p + E_q) |1 / (g_p - g_q)| <= 1/2. (On the box
+//      of radii E_p, E_q around the computed (g_p, g_q), which holds the exact pair, the signs
+//      are opposite, so |x|, |y| <= |x - y| there; the partial derivatives of x / (x - y) are
+//      -y / (x - y)^2 and x / (x - y)^2, so the quotient of the computed g's is within
+//      (E_p + E_q) / (|g_p - g_q| - E_p - E_q) = Q / (1 - Q) <= Q (1 + 2 Q) of the exact t; the
+//      three roundings of t and Q's own add the rest, and 2^-1000 for underflow.) t0 = max(0,
+//      lower ones) and t1 = min(1, upper ones) are within the dt of the one chosen, provided
+//      the choice is certain: two crossings on one side of an edge must differ by more than
+//      their dt's, and a part is certainly non-empty (t1 - t0 > dt0 + dt1 + eps) or certainly
+//      empty. Then the computed corners are the exact ones, moved, in the same combinatorial
+//      order.
 //  (3) Moving the corners V_i of a closed polygon by d_i changes twice its area by
 //      sum_i d_i x (V_{i+1} - V_{i-1}) + sum_i d_i x d_{i+1}. A crossing moves along S's edge f
 //      by dt (d_f = (1, 0), (-1, 1), (0, -1) in the frame): one of its neighbours lies along f,
