@@ -110,15 +110,10 @@ void report(const char* name, const Tally& t) {
   EXPECT_EQ(t.failures, 0) << name;
 }
 
-Triangle rigid(Rng& g, const Triangle& t, double scale) {
+Triangle rigid(Rng& g, const Triangle& t, double s) {
   const double theta = urand(g, 0.0, 6.283185307179586);
   const Vec2 shift = {urand(g, -8.0, 8.0), urand(g, -8.0, 8.0)};
-  Triangle out;
-  for (int k = 0; k < 3; ++k) {
-    const Vec2 p = rotate(t[static_cast<std::size_t>(k)], {0.0, 0.0}, theta);
-    out[static_cast<std::size_t>(k)] = scale * p + shift;
-  }
-  return out;
+  return translate(scale(rotate(t, {0.0, 0.0}, theta), s), shift);
 }
 
 TEST(TriCertified, EveryFamilyKeepsTheContract) {
@@ -161,11 +156,8 @@ TEST(TriCertified, NudgedAcrossAnEdgeLine) {
     Vec2 v = {s, 0.0};  // on A's edge 0-1 before the rotation
     Triangle B0 = {v, Vec2{urand(g, -0.5, 1.5), urand(g, -1.0, -0.2)}, Vec2{urand(g, -0.5, 1.5), urand(g, -1.0, 0.5)}};
     const double theta = urand(g, 0.0, 6.283185307179586);
-    Triangle A = A0, B = B0;
-    for (int k = 0; k < 3; ++k) {
-      A[static_cast<std::size_t>(k)] = rotate(A0[static_cast<std::size_t>(k)], {0.3, 0.2}, theta);
-      B[static_cast<std::size_t>(k)] = rotate(B0[static_cast<std::size_t>(k)], {0.3, 0.2}, theta);
-    }
+    const Triangle A = rotate(A0, {0.3, 0.2}, theta);
+    Triangle B = rotate(B0, {0.3, 0.2}, theta);
     // About 2^k ulps of the coordinate, k from 0 to 40, either way.
     const int k = irand(g, 0, 40);
     const double step = std::ldexp(std::abs(B[0].x) + 0x1p-60, k - 52);
@@ -189,12 +181,7 @@ TEST(TriCertified, ShallowCrossings) {
     if (flat(A0) || flat(B0)) continue;
     check(rigid(g, A0, 1.0), rigid(g, B0, 1.0), t, "shallow");  // two rigid motions: not aligned
     const double theta = urand(g, 0.0, 6.283185307179586);
-    Triangle A, B;
-    for (int k = 0; k < 3; ++k) {
-      A[static_cast<std::size_t>(k)] = rotate(A0[static_cast<std::size_t>(k)], {0.0, 0.0}, theta);
-      B[static_cast<std::size_t>(k)] = rotate(B0[static_cast<std::size_t>(k)], {0.0, 0.0}, theta);
-    }
-    check(A, B, t, "shallow");
+    check(rotate(A0, {0.0, 0.0}, theta), rotate(B0, {0.0, 0.0}, theta), t, "shallow");
   }
   report("shallow", t);
 }
@@ -231,23 +218,15 @@ TEST(TriCertified, NeedlesAndSizeRatios) {
     const Triangle fat = {Vec2{urand(g, -0.6, 0.0), urand(g, -0.6, -0.1)}, Vec2{urand(g, 0.0, 0.6), urand(g, -0.6, 0.6)},
                           Vec2{urand(g, -0.6, 0.6), urand(g, 0.1, 0.6)}};
     const double theta = urand(g, 0.0, 6.283185307179586);
-    Triangle A, B;
-    for (int k = 0; k < 3; ++k) {
-      A[static_cast<std::size_t>(k)] = rotate(needle[static_cast<std::size_t>(k)], {0.1, 0.0}, theta);
-      B[static_cast<std::size_t>(k)] = rotate(fat[static_cast<std::size_t>(k)], {0.1, 0.0}, theta);
-    }
+    const Triangle A = rotate(needle, {0.1, 0.0}, theta), B = rotate(fat, {0.1, 0.0}, theta);
     if (!flat(A) && !flat(B)) check(A, B, needles, "needle");
     // The same rigid motion for both (a separate one would move them apart).
     const double ratio = std::pow(10.0, urand(g, 1.0, 6.0));
     const Vec2 at = {urand(g, -0.3, 0.3), urand(g, -0.3, 0.3)};
     const double phi = urand(g, 0.0, 6.283185307179586);
     const Vec2 shift = {urand(g, -8.0, 8.0), urand(g, -8.0, 8.0)};
-    Triangle big, small;
-    for (int k = 0; k < 3; ++k) {
-      const Vec2 f = fat[static_cast<std::size_t>(k)];
-      big[static_cast<std::size_t>(k)] = rotate(f, {0.0, 0.0}, phi) + shift;
-      small[static_cast<std::size_t>(k)] = rotate(at + (1.0 / ratio) * f, {0.0, 0.0}, phi) + shift;
-    }
+    const Triangle big = translate(rotate(fat, {0.0, 0.0}, phi), shift);
+    const Triangle small = translate(rotate(translate(scale(fat, 1.0 / ratio), at), {0.0, 0.0}, phi), shift);
     if (!flat(big) && !flat(small)) check(big, small, ratios, "size ratio");
   }
   report("needles", needles);

@@ -282,20 +282,13 @@ struct EdgeParts {
   return p;
 }
 
-// A corner in S's frame: its point, the bound a of (3) on its moves other than along S's edge,
-// and for a crossing the bound dt of its move along S's edge f (dt = 0, f = 0 otherwise).
-struct Corner {
-  Vec2 p;
-  double a;
-  double dt;
-  int f;
+// One of S's edges clipped, as scalars: the part [t0, t1] inside L (within dt0, dt1), the lines of
+// L it starts and ends on (-1: S's vertex), whether it is certainly of positive length.
+struct EdgePart {
+  double t0, t1, dt0, dt1;
+  int k0, k1;
+  bool nonempty;
 };
-
-// The point at weight t along S's edge f, in the frame.
-[[gnu::always_inline]] inline Vec2 on_edge(int f, double t) {
-  const double s = 1.0 - t;
-  return f == 0 ? Vec2{t, 0.0} : f == 1 ? Vec2{s, t} : Vec2{0.0, s};
-}
 
 constexpr Vec2 kEdgeDirection[3] = {{1.0, 0.0}, {-1.0, 1.0}, {0.0, -1.0}};
 
@@ -308,11 +301,7 @@ struct CertifiedShape {
   certified::Canonical S, L;
   double gs[3][3];  // S's edge line k at L's vertex i: gs[k][i]
   double gl[3][3];  // L's edge line k at S's vertex f: gl[k][f]
-  struct Part {
-    double t0, t1;
-    int k0, k1;  // the line of L the part of S's edge starts (ends) on; -1: S's vertex
-    bool nonempty;
-  } part[3];
+  certified::EdgePart part[3];
   int start_f[3], end_f[3];  // L's part on edge e starts where S's part start_f[e] ends (-1: L's vertex e), ...
   bool l_inside[3];          // L's vertex i is inside S
 };
@@ -364,11 +353,7 @@ Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, C
   const EdgeParts parts = clip_edges(gl, el);
   if (!parts.certain) return Certified::kUncertain;
   // The parts' lanes as scalars for the assembly below (through memory: one store a vector).
-  struct Part {
-    double t0, t1, dt0, dt1;
-    int k0, k1;
-    bool nonempty;
-  } part[3];
+  EdgePart part[3];
   {
     double t0[4], t1[4], dt0[4], dt1[4], k0[4], k1[4];
     std::memcpy(t0, &parts.t0, sizeof t0);
@@ -411,7 +396,7 @@ Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, C
   Vec2 first6{0.0, 0.0};
   // S's part on edge 1 (edges 0 and 2 lie on lines through o: exactly 0): t1 - t0.
   {
-    const Part& p = part[1];
+    const EdgePart& p = part[1];
     const double term = p.nonempty ? p.t1 - p.t0 : 0.0;
     area2 += term;
     if constexpr (kFirst) first6 = first6 + term * Vec2{(1.0 - p.t0) + (1.0 - p.t1), p.t0 + p.t1};
@@ -473,7 +458,7 @@ Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, C
         shape->gs[k][i] = gs[k][i];
         shape->gl[k][i] = gl[k][i];
       }
-      shape->part[k] = {part[k].t0, part[k].t1, part[k].k0, part[k].k1, part[k].nonempty};
+      shape->part[k] = part[k];
       shape->start_f[k] = start_f[k];
       shape->end_f[k] = end_f[k];
       shape->l_inside[k] = ((l_inside >> k) & 1u) != 0;

@@ -1126,6 +1126,20 @@ struct PolygonBuilder {
       }
       for (double& v : b) v /= sum;
     };
+    // The crossing of S's edge f with L's line k at weight t along f: its point, its labels,
+    // its coordinates in B.
+    const auto crossing = [&](int f, double t, int k, PolygonCorner& out, double (&b)[3], int& la, int& lb) {
+      const int g = (f + 1) % 3;
+      out.point = S.p[f] + t * (S.p[g] - S.p[f]);
+      la = s_edge(f);
+      lb = l_edge(k);
+      if (b_is_s) {
+        b[f] = 1.0 - t;
+        b[g] = t;
+      } else {
+        crossing_coordinates(f, t, k, b);
+      }
+    };
     int n = 0;
     // Segments: 0-2 S's parts, 3-5 L's parts (3 + e).
     int first = -1;
@@ -1141,19 +1155,10 @@ struct PolygonBuilder {
       double b[3] = {0.0, 0.0, 0.0};  // in B's canonical order
       int la, lb;
       if (seg < 3) {
-        const int f = seg, g = (f + 1) % 3;
-        const detail2::CertifiedShape::Part& part = sh.part[f];
-        if (part.k0 >= 0) {  // crossing of S's edge f with L's line k0, at t0
-          const int k = part.k0;
-          out.point = S.p[f] + part.t0 * (S.p[g] - S.p[f]);
-          la = s_edge(f);
-          lb = l_edge(k);
-          if (b_is_s) {
-            b[f] = 1.0 - part.t0;
-            b[g] = part.t0;
-          } else {
-            crossing_coordinates(f, part.t0, k, b);
-          }
+        const int f = seg;
+        const detail2::certified::EdgePart& part = sh.part[f];
+        if (part.k0 >= 0) {  // where S's edge f enters L, across L's line k0
+          crossing(f, part.t0, part.k0, out, b, la, lb);
         } else {  // S's vertex f
           out.point = S.p[f];
           la = s_edge((f + 2) % 3);
@@ -1163,22 +1168,12 @@ struct PolygonBuilder {
           else
             inside_coordinates(sh.gl, f, b);
         }
-        seg = part.k1 >= 0 ? 3 + part.k1 : g;
+        seg = part.k1 >= 0 ? 3 + part.k1 : (f + 1) % 3;
       } else {
         const int e = seg - 3;
         const int fs = sh.start_f[e];
-        if (fs >= 0) {  // crossing of S's edge fs with L's line e, where S's part on fs ends
-          const int g = (fs + 1) % 3;
-          const double t = sh.part[fs].t1;
-          out.point = S.p[fs] + t * (S.p[g] - S.p[fs]);
-          la = s_edge(fs);
-          lb = l_edge(e);
-          if (b_is_s) {
-            b[fs] = 1.0 - t;
-            b[g] = t;
-          } else {
-            crossing_coordinates(fs, t, e, b);
-          }
+        if (fs >= 0) {  // where S's part on edge fs ends, on L's line e
+          crossing(fs, sh.part[fs].t1, e, out, b, la, lb);
         } else {  // L's vertex e
           out.point = L.p[e];
           la = l_edge((e + 2) % 3);

@@ -86,8 +86,8 @@
 //
 // Kept data: where polyhedra, mixed mass matrices or a consumer's numbers are needed, the full
 // kernel runs (in 3D on every candidate, in 2D as intersect() on every candidate instead of
-// intersection_moments; the same moments bit for bit). keep_polyhedra stores the whole polyhedron (polygon) per piece;
-// keep_mixed_mass computes the piece's local mixed mass matrix from it while it is at hand
+// intersection_moments; the same moments bit for bit). keep_polyhedra stores the whole
+// polyhedron (polygon) per piece; keep_mixed_mass computes the piece's local mixed mass matrix from it while it is at hand
 // (src/supermesh/mixed_mass.hpp, the function the remap uses on kept polyhedra) and stores only
 // those 16 (9) numbers, merged in the same order as the pieces.
 #include "tetia/supermesh.hpp"
