@@ -45,12 +45,16 @@
 //      plus 2^-1000 for roundings in the subnormal range (the bound assumes none). All 18 must
 //      have |g| > E (certain signs), and det(S), det(L) likewise.
 //  (2) A crossing t = g_p * (1 / (g_p - g_q)) is within dt of the exact one:
-//      dt = Q (1 + 2 Q)(1 + 16 eps) + 4 eps, Q = (E_p + E_q) |1 / (g_p - g_q)| <= 1/2. (On the box
-//      of radii E_p, E_q around the computed (g_p, g_q), which holds the exact pair, the signs
-//      are opposite, so |x|, |y| <= |x - y| there; the partial derivatives of x / (x - y) are
-//      -y / (x - y)^2 and x / (x - y)^2, so the quotient of the computed g's is within
-//      (E_p + E_q) / (|g_p - g_q| - E_p - E_q) = Q / (1 - Q) <= Q (1 + 2 Q) of the exact t; the
-//      three roundings of t and Q's own add the rest, and 2^-1000 for underflow.) t0 = max(0,
+//      dt = Q' (1 + 2 Q)(1 + 16 eps) + 4 eps, Q = (E_p + E_q) / D <= 1/2, D = |g_p - g_q|,
+//      Q' = (E_p |g_q| + E_q |g_p|) / D^2 <= Q. (On the box of radii E_p, E_q around the
+//      computed (g_p, g_q), which holds the exact pair, the signs are opposite, so t = a / (a + b)
+//      with a = |x|, b = |y|, increasing in a and decreasing in b: its extremes are at two
+//      corners, (a0 + E_p, b0 - E_q) and (a0 - E_p, b0 + E_q), where it differs from the
+//      quotient of the computed g's by (E_p b0 + E_q a0) / (D (D +- (E_p - E_q))), at most
+//      Q' / (1 - Q) <= Q' (1 + 2 Q). A crossing near a vertex of S, t or 1 - t small, has
+//      Q' far below Q. The three roundings of t and Q's own add the rest, and 2^-1000 for
+//      underflow: Q' is evaluated as (E_p / D)(|g_q| / D) + (E_q / D)(|g_p| / D), factors of
+//      at most 1/2 and 1, so an underflowing product loses no more than that.) t0 = max(0,
 //      lower ones) and t1 = min(1, upper ones) are within the dt of the one chosen, provided
 //      the choice is certain: two crossings on one side of an edge must differ by more than
 //      their dt's, and a part is certainly non-empty (t1 - t0 > dt0 + dt1 + eps) or certainly
@@ -67,13 +71,18 @@
 //      ends' weights: no second order there. Everything else (the rounding of 1 - t, the
 //      coordinates of a vertex of L: (E_k + 2.01 eps |g_k|) / det + |lambda| rel(det), rel(det)
 //      = det's error bound over det less it) moves a corner by at most a in the max norm, and
-//      |V_{i+1} - V_{i-1}|_1 <= 2 in the unit triangle: 2 a. Second order: 2 |d_0|_inf |d_1|_inf
-//      per side.
+//      |V_{i+1} - V_{i-1}|_1 <= 2 in the unit triangle: 2 a. For a vertex of L, whose
+//      neighbours (the start of L's part before it, the end of its own part) are often close to
+//      it, the computed neighbours instead: |V_{i+1} - V_{i-1}|_1 <= |V'_{i+1} - V'_{i-1}|_1 +
+//      2 (m_{i+1} + m_{i-1}), m the neighbours' max-norm moves (a + dt for a crossing), so
+//      a min(2, that). Second order: 2 |d_0|_inf |d_1|_inf per side.
 //  (4) Evaluation: P x Q rounds to within 2.01 eps (|P_x Q_y| + |P_y Q_x|); t1 - t0 within eps
 //      of itself; the sum of at most four terms within 3.01 eps of the sum of their magnitudes.
 //  (5) In original units: det times that, plus |twice the area in the frame| times det's error
 //      bound, plus the last product's rounding; the bound evaluated with a factor 1 + 64 eps for
-//      its own roundings.
+//      its own roundings. det(S) is computed from exact differences and products
+//      (accurate_det): its bound is eps of itself, where the plain one, 3 eps of its products,
+//      is eps times S's condition number (the largest term of the bound of most needles).
 // Coordinates within [-2^300, 2^300] keep every product below 2^1000 and every first moment
 // below 2^910; det(S) >= 2^-600 keeps the products the frame divides by normal.
 #pragma once
@@ -82,11 +91,13 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 
 #if defined(__SSE2__)
 #include <immintrin.h>
 #endif
 
+#include "exact_sign.hpp"  // two_diff, two_product
 #include "tetia/geometry.hpp"
 #include "tetia/polygon.hpp"  // Moments2
 
@@ -146,6 +157,40 @@ struct Canonical {
   // Equal abscissas would make the first vertex depend on the input's order.
   c.certain = int(c.det > c.det_error) & int(t[0].x != t[1].x) & int(t[1].x != t[2].x) & int(t[0].x != t[2].x);
   return c;
+}
+
+// det(S) = (p1 - p0) x (p2 - p0) of a canonical triangle with an error bound, (5). The
+// differences are exact as h + l (two_diff) and h0 h1 = p + ep, h2 h3 = q + eq, p - q = d + ed
+// exactly (two_product, two_diff), so
+//   det = d + (ed + ep - eq) + (h0 l1 + l0 h1 - h2 l3 - l2 h3) + (l0 l1 - l2 l3);
+// the small terms summed in doubles are within 2^-49 of the sum of their magnitudes plus
+// 2^-1060 (exact_sign.hpp, orient2d_nearest's stage 1: coordinates within 2^300 keep Dekker's
+// split from overflowing; underflowing products lose at most 2^-1075 each), and the value adds
+// its own rounding. Against Shewchuk's bound on the plain det, 3 eps of its products, this is
+// eps of the determinant itself: a needle's frame no longer costs its condition number.
+struct AccurateDet {
+  double value, error;
+};
+
+[[gnu::always_inline]] inline AccurateDet accurate_det(const Canonical& t) {
+  using namespace detail::exact_sign_impl;
+  double h[4], l[4];
+  two_diff(t.p[1].x, t.p[0].x, h[0], l[0]);
+  two_diff(t.p[2].y, t.p[0].y, h[1], l[1]);
+  two_diff(t.p[1].y, t.p[0].y, h[2], l[2]);
+  two_diff(t.p[2].x, t.p[0].x, h[3], l[3]);
+  double p, ep, q, eq, d, ed;
+  two_product(h[0], h[1], p, ep);
+  two_product(h[2], h[3], q, eq);
+  two_diff(p, q, d, ed);
+  const double c1 = h[0] * l[1], c2 = l[0] * h[1], c3 = h[2] * l[3], c4 = l[2] * h[3];
+  const double c5 = l[0] * l[1], c6 = l[2] * l[3];
+  const double rest = ((ed + (ep - eq)) + ((c1 + c2) - (c3 + c4))) + (c5 - c6);
+  const double magnitude = ((std::abs(ed) + (std::abs(ep) + std::abs(eq))) +
+                            ((std::abs(c1) + std::abs(c2)) + (std::abs(c3) + std::abs(c4)))) +
+                           (std::abs(c5) + std::abs(c6));
+  const double value = d + rest;
+  return {value, kEps * std::abs(value) + 0x1p-49 * magnitude + 0x1p-1060};
 }
 
 // Four lanes of doubles: lanes 0-2 a triangle's three vertices (or edges), lane 3 a copy of lane
@@ -255,11 +300,13 @@ struct EdgeParts {
     outside |= (gp < zero) & (gq < zero);
     upper[k] = (gp > zero) & (gq < zero);  // leaves L across line k
     lower[k] = (gp < zero) & (gq > zero);  // enters L across line k
-    const v4d inv = splat(1.0) / (gp - gq);
-    const v4d q = (err[k] + next(err[k])) * vabs(inv);
+    const v4d inv = splat(1.0) / (gp - gq), inv_abs = vabs(inv);
+    const v4d ep = err[k] * inv_abs, eq = next(err[k]) * inv_abs;  // E_p / D, E_q / D
+    const v4d q = ep + eq;
+    const v4d q_sharp = ep * (vabs(gq) * inv_abs) + eq * (vabs(gp) * inv_abs);  // Q' of (2)
     t[k] = gp * inv;
     dt[k] = select(q <= splat(0.5),
-                   q * (splat(1.0) + splat(2.0) * q) * splat(1.0 + 16.0 * kEps) + splat(4.0 * kEps + kUnderflow),
+                   q_sharp * (splat(1.0) + splat(2.0) * q) * splat(1.0 + 16.0 * kEps) + splat(4.0 * kEps + kUnderflow),
                    splat(INFINITY));
     const v4i up_smaller = upper[k] & (t[k] < p.t1);
     p.t1 = select(up_smaller, t[k], p.t1);
@@ -367,23 +414,6 @@ Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, C
   }
   const unsigned l_inside = bits((gs[0] > zero) & (gs[1] > zero) & (gs[2] > zero));
 
-  const double det = S.det;
-  const double det_low = (det - S.det_error) * (1.0 - kEps);  // a lower bound on |det(S)|
-  const double inv_det = 1.0 / det, inv_det_low = (1.0 / det_low) * (1.0 + 2.0 * kEps);
-  const double det_rel = S.det_error * inv_det_low * (1.0 + 2.0 * kEps);
-  // Candidate corners, all computed and then selected (branches here would follow random data).
-  // L's vertices in the frame (lanes), used where inside S, with their bounds a of (3): the
-  // weights of S1 and S2 are the orientations against S's edges 2 and 0 over det(S).
-  const v4d vx = gs[2] * splat(inv_det), vy = gs[0] * splat(inv_det);
-  const v4d va = (select(es[2] > es[0], es[2], es[0]) +
-                  splat(2.01 * kEps) * select(vabs(gs[2]) > vabs(gs[0]), vabs(gs[2]), vabs(gs[0]))) *
-                     splat(inv_det_low) +
-                 select(vabs(vx) > vabs(vy), vabs(vx), vabs(vy)) * splat(det_rel);
-  // The ends of S's parts in the frame (lanes f): base_f + t dir_f, (t, 0), (1 - t, t), (0, 1 - t).
-  const v4d base_x = lanes(0.0, 1.0, 0.0, 0.0), base_y = lanes(0.0, 0.0, 1.0, 0.0);
-  const v4d dir_x = lanes(1.0, -1.0, 0.0, 1.0), dir_y = lanes(0.0, 1.0, -1.0, 0.0);
-  const v4d sx0 = base_x + parts.t0 * dir_x, sy0 = base_y + parts.t0 * dir_y;
-  const v4d sx1 = base_x + parts.t1 * dir_x, sy1 = base_y + parts.t1 * dir_y;
   // Which part of S ends (starts) on L's line e: L's part on edge e starts (ends) there. Slot 3
   // takes the parts that end (start) at a vertex of S.
   int start_f[4] = {-1, -1, -1, -1}, end_f[4] = {-1, -1, -1, -1};
@@ -391,63 +421,128 @@ Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, C
     start_f[(part[f].nonempty & (part[f].k1 >= 0)) ? part[f].k1 : 3] = f;
     end_f[(part[f].nonempty & (part[f].k0 >= 0)) ? part[f].k0 : 3] = f;
   }
-
-  double area2 = 0.0, bound = 0.0, magnitude = 0.0;
-  Vec2 first6{0.0, 0.0};
-  // S's part on edge 1 (edges 0 and 2 lie on lines through o: exactly 0): t1 - t0.
-  {
-    const EdgePart& p = part[1];
-    const double term = p.nonempty ? p.t1 - p.t0 : 0.0;
-    area2 += term;
-    if constexpr (kFirst) first6 = first6 + term * Vec2{(1.0 - p.t0) + (1.0 - p.t1), p.t0 + p.t1};
-    magnitude += std::abs(term);
-    // (4); no second order: the term is linear in t0 and t1 (both ends move along edge 1).
-    bound += p.nonempty ? 1.01 * kEps * std::abs(term) : 0.0;
-  }
-  // L's parts.
+  // L's part on edge e exists where it starts (a crossing, or L's vertex e inside S); with
+  // certain decisions it then ends too.
   bool consistent = true;
   for (int e = 0; e < 3; ++e) {
-    const int i = e, j = e == 2 ? 0 : e + 1;
-    const int fs = start_f[e], fe = end_f[e];
-    const bool cross0 = fs >= 0, cross1 = fe >= 0;
-    const int f0 = cross0 ? fs : 0, f1 = cross1 ? fe : 0;
-    const bool has0 = cross0 | (((l_inside >> i) & 1u) != 0), has1 = cross1 | (((l_inside >> j) & 1u) != 0);
-    consistent &= has0 == has1;
-    // Start: where S's part on f0 ends (t1), or L's vertex i; end: where S's part on f1 starts
-    // (t0), or L's vertex j.
-    const Vec2 p0 = {cross0 ? sx1[f0] : vx[i], cross0 ? sy1[f0] : vy[i]};
-    const Vec2 p1 = {cross1 ? sx0[f1] : vx[j], cross1 ? sy0[f1] : vy[j]};
-    const double a0 = cross0 ? 1.01 * kEps : va[i], a1 = cross1 ? 1.01 * kEps : va[j];
-    const double dt0 = cross0 ? part[f0].dt1 : 0.0, dt1 = cross1 ? part[f1].dt0 : 0.0;
-    const double l = p0.x * p1.y, r = p0.y * p1.x;
-    const double term = has0 ? l - r : 0.0;
-    area2 += term;
-    if constexpr (kFirst) first6 = first6 + term * (p0 + p1);
-    magnitude += std::abs(term);
-    // (3), each corner once: a crossing ends exactly one part of S and one of L (its move
-    // along f here, where its side along L's edge is), a vertex of L starts one part of L.
-    // The side w = p1 - p0 is the computed one: the exact one differs by the ends' moves, but
-    // an end's own move along its edge f does not count in d_f x w.
-    const Vec2 w = p1 - p0;
-    const auto along = [&](double dt, int f, double moves) {
-      const Vec2 d = kEdgeDirection[f];
-      return dt * (std::abs(d.x * w.y - d.y * w.x) + (std::abs(d.x) + std::abs(d.y)) * moves);
-    };
-    const double b = 2.01 * kEps * (std::abs(l) + std::abs(r)) +  // (4)
-                     along(dt0, f0, a0 + a1 + dt1) + along(dt1, f1, a0 + dt0 + a1) + 2.0 * a0 +
-                     (cross1 ? 2.0 * a1 : 0.0) + 2.0 * (a0 + dt0) * (a1 + dt1);  // second order
-    bound += has0 ? b : 0.0;
+    const int j = e == 2 ? 0 : e + 1;
+    consistent &= ((start_f[e] >= 0) | (((l_inside >> e) & 1u) != 0)) == ((end_f[e] >= 0) | (((l_inside >> j) & 1u) != 0));
   }
-  if (!consistent) return Certified::kUncertain;  // not with certain decisions
-  bound = (bound + 3.01 * kEps * magnitude) * (1.0 + 16.0 * kEps);
-  // (5), relative to the smaller triangle's doubled area (at least det_low).
-  const double bound_world = (bound * det + std::abs(area2) * S.det_error) * (1.0 + 64.0 * kEps) + kEps * std::abs(area2) * det;
-  if (!(bound_world <= kAcceptedError * det_low) || !(area2 * det >= kSmallestFraction * det_low))
-    return Certified::kUncertain;
-  m.area = 0.5 * (area2 * det);
-  if constexpr (kFirst) {
-    const Vec2 e1 = S.p[1] - S.p[0], e2 = S.p[2] - S.p[0];
-    m.first = m.area * S.p[0] + (det * (1.0 / 6.0)) * (first6.x * e1 + first6.y * e2);
+  if (!consistent) return Certified::kUncertain;
+  // The ends of S's parts in the frame (lanes f): base_f + t dir_f, (t, 0), (1 - t, t), (0, 1 - t).
+  const v4d base_x = lanes(0.0, 1.0, 0.0, 0.0), base_y = lanes(0.0, 0.0, 1.0, 0.0);
+  const v4d dir_x = lanes(1.0, -1.0, 0.0, 1.0), dir_y = lanes(0.0, 1.0, -1.0, 0.0);
+  const v4d sx0 = base_x + parts.t0 * dir_x, sy0 = base_y + parts.t0 * dir_y;
+  const v4d sx1 = base_x + parts.t1 * dir_x, sy1 = base_y + parts.t1 * dir_y;
+
+  // The area, its moments and its bound with det(S) and det's error bound: with the plain
+  // determinant first; where the bound does not accept that, with the accurate one (5) and the
+  // vertices' neighbours in (3), which cost a few per cent of the time if made on every pair, and
+  // decide most of what the first leaves (needles: det's bound; near-identical triangles: L's
+  // vertices beside S's). Returns 1 where accepted (m set), 0 where only the bound failed, -1
+  // where the area is too small.
+  const auto attempt = [&](auto second, double det, double det_error) -> int {
+    constexpr bool kSecond = decltype(second)::value;
+    const double det_low = (det - det_error) * (1.0 - kEps);  // a lower bound on |det(S)|
+    const double inv_det = 1.0 / det, inv_det_low = (1.0 / det_low) * (1.0 + 2.0 * kEps);
+    const double det_rel = det_error * inv_det_low * (1.0 + 2.0 * kEps);
+    // Candidate corners, all computed and then selected (branches here would follow random data).
+    // L's vertices in the frame (lanes), used where inside S, with their bounds a of (3): the
+    // weights of S1 and S2 are the orientations against S's edges 2 and 0 over det(S).
+    const v4d vx = gs[2] * splat(inv_det), vy = gs[0] * splat(inv_det);
+    const v4d va = (select(es[2] > es[0], es[2], es[0]) +
+                    splat(2.01 * kEps) * select(vabs(gs[2]) > vabs(gs[0]), vabs(gs[2]), vabs(gs[0]))) *
+                       splat(inv_det_low) +
+                   select(vabs(vx) > vabs(vy), vabs(vx), vabs(vy)) * splat(det_rel);
+
+    double area2 = 0.0, bound = 0.0, magnitude = 0.0;
+    Vec2 first6{0.0, 0.0};
+    // S's part on edge 1 (edges 0 and 2 lie on lines through o: exactly 0): t1 - t0.
+    {
+      const EdgePart& p = part[1];
+      const double term = p.nonempty ? p.t1 - p.t0 : 0.0;
+      area2 += term;
+      if constexpr (kFirst) first6 = first6 + term * Vec2{(1.0 - p.t0) + (1.0 - p.t1), p.t0 + p.t1};
+      magnitude += std::abs(term);
+      // (4); no second order: the term is linear in t0 and t1 (both ends move along edge 1).
+      bound += p.nonempty ? 1.01 * kEps * std::abs(term) : 0.0;
+    }
+    // L's parts: their ends first (a vertex of L needs its neighbours for (3)), then the terms.
+    Vec2 end0[3], end1[3];        // L's part on edge e runs from end0[e] to end1[e]
+    double a_end0[3], a_end1[3];  // the ends' moves in the max norm but along S's edges, (3)
+    double dt_end0[3], dt_end1[3];
+    for (int e = 0; e < 3; ++e) {
+      const int i = e, j = e == 2 ? 0 : e + 1;
+      const int fs = start_f[e], fe = end_f[e];
+      const bool cross0 = fs >= 0, cross1 = fe >= 0;
+      const int f0 = cross0 ? fs : 0, f1 = cross1 ? fe : 0;
+      // Start: where S's part on f0 ends (t1), or L's vertex i; end: where S's part on f1 starts
+      // (t0), or L's vertex j.
+      end0[e] = {cross0 ? sx1[f0] : vx[i], cross0 ? sy1[f0] : vy[i]};
+      end1[e] = {cross1 ? sx0[f1] : vx[j], cross1 ? sy0[f1] : vy[j]};
+      a_end0[e] = cross0 ? 1.01 * kEps : va[i];
+      a_end1[e] = cross1 ? 1.01 * kEps : va[j];
+      dt_end0[e] = cross0 ? part[f0].dt1 : 0.0;
+      dt_end1[e] = cross1 ? part[f1].dt0 : 0.0;
+    }
+    for (int e = 0; e < 3; ++e) {
+      const int fs = start_f[e], fe = end_f[e];
+      const bool cross0 = fs >= 0, cross1 = fe >= 0;
+      const int f0 = cross0 ? fs : 0, f1 = cross1 ? fe : 0;
+      const bool has0 = cross0 | (((l_inside >> e) & 1u) != 0);
+      const Vec2 p0 = end0[e], p1 = end1[e];
+      const double a0 = a_end0[e], a1 = a_end1[e], dt0 = dt_end0[e], dt1 = dt_end1[e];
+      const double l = p0.x * p1.y, r = p0.y * p1.x;
+      const double term = has0 ? l - r : 0.0;
+      area2 += term;
+      if constexpr (kFirst) first6 = first6 + term * (p0 + p1);
+      magnitude += std::abs(term);
+      // (3), each corner once: a crossing ends exactly one part of S and one of L (its move
+      // along f here, where its side along L's edge is), a vertex of L starts one part of L.
+      // The side w = p1 - p0 is the computed one: the exact one differs by the ends' moves, but
+      // an end's own move along its edge f does not count in d_f x w.
+      const Vec2 w = p1 - p0;
+      const auto along = [&](double dt, int f, double moves) {
+        const Vec2 d = kEdgeDirection[f];
+        return dt * (std::abs(d.x * w.y - d.y * w.x) + (std::abs(d.x) + std::abs(d.y)) * moves);
+      };
+      double vertex_term = 2.0 * a0;
+      if constexpr (kSecond) {
+        // A vertex of L at the start: its neighbours are the start of L's part on the edge
+        // before (which ends at this vertex) and the end of this part.
+        const int before = e == 0 ? 2 : e - 1;
+        const Vec2 across = p1 - end0[before];
+        const double moves = (a_end0[before] + dt_end0[before]) + (a1 + dt1);
+        vertex_term = a0 * std::min(2.0, (std::abs(across.x) + std::abs(across.y)) + 2.0 * moves);
+      }
+      const double b = 2.01 * kEps * (std::abs(l) + std::abs(r)) +  // (4)
+                       along(dt0, f0, a0 + a1 + dt1) + along(dt1, f1, a0 + dt0 + a1) +
+                       (cross0 ? 2.0 * a0 : vertex_term) + (cross1 ? 2.0 * a1 : 0.0) +
+                       2.0 * (a0 + dt0) * (a1 + dt1);  // second order
+      bound += has0 ? b : 0.0;
+    }
+    bound = (bound + 3.01 * kEps * magnitude) * (1.0 + 16.0 * kEps);
+    // (5), relative to the smaller triangle's doubled area (at least det_low).
+    const double bound_world = (bound * det + std::abs(area2) * det_error) * (1.0 + 64.0 * kEps) + kEps * std::abs(area2) * det;
+    if (!(area2 * det >= kSmallestFraction * det_low)) return -1;
+    if (!(bound_world <= kAcceptedError * det_low)) return 0;
+    m.area = 0.5 * (area2 * det);
+    if constexpr (kFirst) {
+      const Vec2 e1 = S.p[1] - S.p[0], e2 = S.p[2] - S.p[0];
+      m.first = m.area * S.p[0] + (det * (1.0 / 6.0)) * (first6.x * e1 + first6.y * e2);
+    }
+    return 1;
+  };
+  // The second try out of line: it is rare (3 % of random pairs), and inlined beside the first
+  // it slowed the first down.
+  const auto second_try = [&]() __attribute__((noinline)) {
+    const AccurateDet accurate = accurate_det(S);
+    return attempt(std::true_type{}, accurate.value, accurate.error);
+  };
+  const int first_try = attempt(std::false_type{}, S.det, S.det_error);
+  if (first_try < 0) return Certified::kUncertain;
+  if (first_try == 0) [[unlikely]] {
+    if (second_try() <= 0) return Certified::kUncertain;
   }
   if (shape) {
     shape->s_is_a = a_smaller;
