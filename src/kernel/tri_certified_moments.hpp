@@ -614,6 +614,10 @@ Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, C
   v4d gab[3], eab[3], gba[3], eba[3];
   orientations(ca, cb, gab, eab);  // B's vertices against A's lines
   if (!all((vabs(gab[0]) > eab[0]) & (vabs(gab[1]) > eab[1]) & (vabs(gab[2]) > eab[2]))) return Certified::kUncertain;
+  const v4d zero = splat(0.0);
+  // B beyond one of A's lines: apart, without the other way's orientations (about half of the
+  // pairs that are apart; the result, exactly 0, is the same whichever way finds it).
+  if (int(all(gab[0] < zero)) | int(all(gab[1] < zero)) | int(all(gab[2] < zero))) return Certified::kSeparated;
   orientations(cb, ca, gba, eba);  // A's vertices against B's lines
   v4d gs[3], es[3], gl[3], el[3];
   {
@@ -626,7 +630,6 @@ Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, C
     }
   }
   if (!all((vabs(gba[0]) > eba[0]) & (vabs(gba[1]) > eba[1]) & (vabs(gba[2]) > eba[2]))) return Certified::kUncertain;
-  const v4d zero = splat(0.0);
   bool separated = false;
   for (int k = 0; k < 3; ++k) separated |= int(all(gs[k] < zero)) | int(all(gl[k] < zero));
   if (separated) return Certified::kSeparated;
