@@ -362,13 +362,10 @@ struct CertifiedShape {
   bool l_inside[3];          // L's vertex i is inside S
 };
 
-// kFirst: the first moments too (else m.first is left alone; the area's bits do not depend on it).
-// shape: where not null and the result is certified, what intersect() builds its polygon from.
 namespace certified {
 
-// The orientations of x's three vertices (lanes) against t's edge lines, as orientations(), each
-// from exact differences and products like accurate_det: error eps of itself plus 2^-49 of its
-// small terms plus 2^-1060, where orientations() has 3 eps of its products. For the third try.
+// Knuth's and Dekker's error-free difference and product, lane by lane (exact_sign.hpp has them
+// for doubles): d + e = a - b and p + e = a b exactly, no overflow (|a|, |b| < 2^996).
 [[gnu::always_inline]] inline void two_diff(const v4d& a, const v4d& b, v4d& d, v4d& e) {
   d = a - b;
   const v4d bv = a - d;
@@ -381,6 +378,9 @@ namespace certified {
   const v4d ah = ca - (ca - a), al = a - ah, bh = cb - (cb - b), bl = b - bh;
   e = al * bl - (((p - ah * bh) - al * bh) - ah * bl);
 }
+// The orientations of x's three vertices (lanes) against t's edge lines, as orientations(), each
+// from exact differences and products like accurate_det: error eps of itself plus 2^-49 of its
+// small terms plus 2^-1060, where orientations() has 3 eps of its products. For the third try.
 inline void accurate_orientations(const Canonical& t, const Canonical& x, v4d (&g)[3], v4d (&e)[3]) {
   using detail::exact_sign_impl::two_diff;
   const v4d px = lanes(x.p[0].x, x.p[1].x, x.p[2].x, x.p[0].x);
@@ -589,6 +589,8 @@ template <bool kFirst>
 
 }  // namespace certified
 
+// kFirst: the first moments too (else m.first is left alone; the area's bits do not depend on it).
+// shape: where not null and the result is certified, what intersect() builds its polygon from.
 template <bool kFirst>
 Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, CertifiedShape* shape = nullptr) {
   using namespace certified;
