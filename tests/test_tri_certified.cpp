@@ -140,8 +140,8 @@ TEST(TriCertified, DecidesNearlyEveryRandomPair) {
     check(A, B, t, "random");
   }
   report("random", t);
-  // 96 % measured on the benchmark's pairs (the rest: needles whose bound exceeds 2^-47, and
-  // small overlaps).
+  // All but 8 of the benchmark's 810,282 pairs whose boxes overlap are decided (96 % by the first
+  // try alone); the rest: orientations within their bounds, small overlaps.
   EXPECT_GE(t.certified + t.apart, overlapping * 9 / 10);
 }
 
