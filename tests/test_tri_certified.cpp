@@ -140,9 +140,10 @@ TEST(TriCertified, DecidesNearlyEveryRandomPair) {
     check(A, B, t, "random");
   }
   report("random", t);
+  std::printf("[ certified] random: %ld of %ld pairs whose boxes overlap decided\n", t.certified + t.apart, overlapping);
   // All but 8 of the benchmark's 810,282 pairs whose boxes overlap are decided (96 % by the first
   // try alone); the rest: orientations within their bounds, small overlaps.
-  EXPECT_GE(t.certified + t.apart, overlapping * 9 / 10);
+  EXPECT_GE(t.certified + t.apart, overlapping * 99 / 100);
 }
 
 // A vertex of B on an edge line of A (rotated, so not exactly), moved by about 1 to 2^40 ulps of
