@@ -83,8 +83,8 @@
 //  (5) In original units: det times that, plus |twice the area in the frame| times det's error
 //      bound, plus the last product's rounding; the bound evaluated with a factor 1 + 64 eps for
 //      its own roundings. det(S) is computed from exact differences and products
-//      (accurate_det): its bound is eps of itself, where the plain one, 3 eps of its products,
-//      is eps times S's condition number (the largest term of the bound of most needles).
+//      (accurate_det, bounded_det): its bound is eps of itself, where the plain one, 3 eps of
+//      its products, is eps times S's condition number (the largest term for most needles).
 // Tries. The bound is first evaluated with the plain det(S) and Shewchuk's bounds; where it does
 // not accept, again with det(S) accurate (5) and the vertices' neighbours in (3); where that
 // does not, again from accurate orientations, reclipped. Each try is a computation with its own
@@ -168,40 +168,6 @@ struct Canonical {
   return c;
 }
 
-// det(S) = (p1 - p0) x (p2 - p0) of a canonical triangle with an error bound, (5). The
-// differences are exact as h + l (two_diff) and h0 h1 = p + ep, h2 h3 = q + eq, p - q = d + ed
-// exactly (two_product, two_diff), so
-//   det = d + (ed + ep - eq) + (h0 l1 + l0 h1 - h2 l3 - l2 h3) + (l0 l1 - l2 l3);
-// the small terms summed in doubles are within 2^-49 of the sum of their magnitudes plus
-// 2^-1060 (exact_sign.hpp, orient2d_nearest's stage 1: coordinates within 2^300 keep Dekker's
-// split from overflowing; underflowing products lose at most 2^-1075 each), and the value adds
-// its own rounding. Against Shewchuk's bound on the plain det, 3 eps of its products, this is
-// eps of the determinant itself: a needle's frame no longer costs its condition number.
-struct AccurateDet {
-  double value, error;
-};
-
-[[gnu::always_inline]] inline AccurateDet accurate_det(const Canonical& t) {
-  using namespace detail::exact_sign_impl;
-  double h[4], l[4];
-  two_diff(t.p[1].x, t.p[0].x, h[0], l[0]);
-  two_diff(t.p[2].y, t.p[0].y, h[1], l[1]);
-  two_diff(t.p[1].y, t.p[0].y, h[2], l[2]);
-  two_diff(t.p[2].x, t.p[0].x, h[3], l[3]);
-  double p, ep, q, eq, d, ed;
-  two_product(h[0], h[1], p, ep);
-  two_product(h[2], h[3], q, eq);
-  two_diff(p, q, d, ed);
-  const double c1 = h[0] * l[1], c2 = l[0] * h[1], c3 = h[2] * l[3], c4 = l[2] * h[3];
-  const double c5 = l[0] * l[1], c6 = l[2] * l[3];
-  const double rest = ((ed + (ep - eq)) + ((c1 + c2) - (c3 + c4))) + (c5 - c6);
-  const double magnitude = ((std::abs(ed) + (std::abs(ep) + std::abs(eq))) +
-                            ((std::abs(c1) + std::abs(c2)) + (std::abs(c3) + std::abs(c4)))) +
-                           (std::abs(c5) + std::abs(c6));
-  const double value = d + rest;
-  return {value, kEps * std::abs(value) + 0x1p-49 * magnitude + 0x1p-1060};
-}
-
 // Four lanes of doubles: lanes 0-2 a triangle's three vertices (or edges), lane 3 a copy of lane
 // 0, so that "all lanes" means all three. GCC's and Clang's vector extensions, one AVX register
 // where the variant has AVX (x86-64-v3), else two SSE2 halves (a 32-byte vector without AVX
@@ -272,6 +238,72 @@ TETIA_LANES_OP(v4i, v4i, |)
 }
 [[gnu::always_inline]] inline bool all(const v4i& m) { return bits(m) == 15u; }
 [[gnu::always_inline]] inline bool any(const v4i& m) { return bits(m) != 0u; }
+
+// Knuth's and Dekker's error-free difference and product, for doubles (exact_sign.hpp) and lane
+// by lane: d + e = a - b and p + e = a b exactly, no overflow (|a|, |b| < 2^996).
+using detail::exact_sign_impl::two_diff;
+using detail::exact_sign_impl::two_product;
+[[gnu::always_inline]] inline void two_diff(const v4d& a, const v4d& b, v4d& d, v4d& e) {
+  d = a - b;
+  const v4d bv = a - d;
+  e = (a - (d + bv)) + (bv - b);
+}
+[[gnu::always_inline]] inline void two_product(const v4d& a, const v4d& b, v4d& p, v4d& e) {
+  p = a * b;
+  const v4d split = splat(134217729.0);  // 2^27 + 1, Dekker's split
+  const v4d ca = split * a, cb = split * b;
+  const v4d ah = ca - (ca - a), al = a - ah, bh = cb - (cb - b), bl = b - bh;
+  e = al * bl - (((p - ah * bh) - al * bh) - ah * bl);
+}
+[[gnu::always_inline]] inline double abs_of(double x) { return std::abs(x); }
+[[gnu::always_inline]] inline v4d abs_of(const v4d& x) { return vabs(x); }
+template <class T>
+T filled(double x);
+template <>
+[[gnu::always_inline]] inline double filled<double>(double x) {
+  return x;
+}
+template <>
+[[gnu::always_inline]] inline v4d filled<v4d>(double x) {
+  return splat(x);
+}
+
+// det[b - a, c - a] with an error bound, from its differences b - a = (h0 + l0, h2 + l2) and
+// c - a = (h3 + l3, h1 + l1), exact (two_diff): with h0 h1 = p + ep, h2 h3 = q + eq, p - q =
+// d + ed exactly (two_product, two_diff),
+//   det = d + (ed + ep - eq) + (h0 l1 + l0 h1 - h2 l3 - l2 h3) + (l0 l1 - l2 l3);
+// the small terms summed in doubles are within 2^-49 of the sum of their magnitudes plus
+// 2^-1060 (exact_sign.hpp, orient2d_nearest's stage 1: coordinates within 2^300 keep Dekker's
+// split from overflowing; underflowing products lose at most 2^-1075 each), and the value adds
+// its own rounding. Against Shewchuk's bound on the plain determinant, 3 eps of its products,
+// this is eps of the determinant itself. T: double, or v4d for four at once.
+template <class T>
+struct Bounded {
+  T value, error;
+};
+
+template <class T>
+[[gnu::always_inline]] inline Bounded<T> bounded_det(const T (&h)[4], const T (&l)[4]) {
+  T p, ep, q, eq, d, ed;
+  two_product(h[0], h[1], p, ep);
+  two_product(h[2], h[3], q, eq);
+  two_diff(p, q, d, ed);
+  const T c1 = h[0] * l[1], c2 = l[0] * h[1], c3 = h[2] * l[3], c4 = l[2] * h[3];
+  const T c5 = l[0] * l[1], c6 = l[2] * l[3];
+  const T rest = ((ed + (ep - eq)) + ((c1 + c2) - (c3 + c4))) + (c5 - c6);
+  const T magnitude = ((abs_of(ed) + (abs_of(ep) + abs_of(eq))) + ((abs_of(c1) + abs_of(c2)) + (abs_of(c3) + abs_of(c4)))) +
+                      (abs_of(c5) + abs_of(c6));
+  const T value = d + rest;
+  return {value, (filled<T>(kEps) * abs_of(value) + filled<T>(0x1p-49) * magnitude) + filled<T>(0x1p-1060)};
+}
+
+// det(S) = (p1 - p0) x (p2 - p0) of a canonical triangle, with its bound (5): a needle's frame
+// no longer costs its condition number.
+[[gnu::always_inline]] inline Bounded<double> accurate_det(const Canonical& t) {
+  double h[4], l[4];
+  detail::exact_sign_impl::exact_differences(t.p[0].x, t.p[0].y, t.p[1].x, t.p[1].y, t.p[2].x, t.p[2].y, h, l);
+  return bounded_det(h, l);
+}
 
 // Orientations of x's three vertices (lanes) against t's edge line k (from t.p[k] to
 // t.p[k + 1]), positive inside, with their error bounds: g[k], e[k].
@@ -364,25 +396,9 @@ struct CertifiedShape {
 
 namespace certified {
 
-// Knuth's and Dekker's error-free difference and product, lane by lane (exact_sign.hpp has them
-// for doubles): d + e = a - b and p + e = a b exactly, no overflow (|a|, |b| < 2^996).
-[[gnu::always_inline]] inline void two_diff(const v4d& a, const v4d& b, v4d& d, v4d& e) {
-  d = a - b;
-  const v4d bv = a - d;
-  e = (a - (d + bv)) + (bv - b);
-}
-[[gnu::always_inline]] inline void two_product(const v4d& a, const v4d& b, v4d& p, v4d& e) {
-  p = a * b;
-  const v4d split = splat(134217729.0);  // 2^27 + 1, Dekker's split
-  const v4d ca = split * a, cb = split * b;
-  const v4d ah = ca - (ca - a), al = a - ah, bh = cb - (cb - b), bl = b - bh;
-  e = al * bl - (((p - ah * bh) - al * bh) - ah * bl);
-}
 // The orientations of x's three vertices (lanes) against t's edge lines, as orientations(), each
-// from exact differences and products like accurate_det: error eps of itself plus 2^-49 of its
-// small terms plus 2^-1060, where orientations() has 3 eps of its products. For the third try.
+// with bounded_det's bound instead of Shewchuk's (3 eps of its products). For the third try.
 inline void accurate_orientations(const Canonical& t, const Canonical& x, v4d (&g)[3], v4d (&e)[3]) {
-  using detail::exact_sign_impl::two_diff;
   const v4d px = lanes(x.p[0].x, x.p[1].x, x.p[2].x, x.p[0].x);
   const v4d py = lanes(x.p[0].y, x.p[1].y, x.p[2].y, x.p[0].y);
   for (int k = 0; k < 3; ++k) {
@@ -390,19 +406,13 @@ inline void accurate_orientations(const Canonical& t, const Canonical& x, v4d (&
     double dxh, dxl, dyh, dyl;
     two_diff(b.x, a.x, dxh, dxl);
     two_diff(b.y, a.y, dyh, dyl);
-    v4d yh, yl, xh, xl, p, ep, q, eq, d, ed;
-    certified::two_diff(py, splat(a.y), yh, yl);
-    certified::two_diff(px, splat(a.x), xh, xl);
-    certified::two_product(splat(dxh), yh, p, ep);
-    certified::two_product(splat(dyh), xh, q, eq);
-    certified::two_diff(p, q, d, ed);
-    const v4d c1 = splat(dxh) * yl, c2 = splat(dxl) * yh, c3 = splat(dyh) * xl, c4 = splat(dyl) * xh;
-    const v4d c5 = splat(dxl) * yl, c6 = splat(dyl) * xl;
-    const v4d rest = ((ed + (ep - eq)) + ((c1 + c2) - (c3 + c4))) + (c5 - c6);
-    const v4d magnitude = ((vabs(ed) + (vabs(ep) + vabs(eq))) + ((vabs(c1) + vabs(c2)) + (vabs(c3) + vabs(c4)))) +
-                          (vabs(c5) + vabs(c6));
-    g[k] = d + rest;
-    e[k] = (splat(kEps) * vabs(g[k]) + splat(0x1p-49) * magnitude) + splat(0x1p-1060);
+    v4d h[4], l[4];  // b - a and x - a, as bounded_det takes them
+    two_diff(py, splat(a.y), h[1], l[1]);
+    two_diff(px, splat(a.x), h[3], l[3]);
+    h[0] = splat(dxh), l[0] = splat(dxl), h[2] = splat(dyh), l[2] = splat(dyl);
+    const Bounded<v4d> o = bounded_det(h, l);
+    g[k] = o.value;
+    e[k] = o.error;
   }
 }
 
@@ -567,7 +577,7 @@ struct LaterTries {
 template <bool kFirst>
 [[gnu::noinline]] int later_tries(LaterTries& t, Moments2& m) {
   const Canonical& S = t.a_smaller ? t.ca : t.cb;
-  const AccurateDet accurate = accurate_det(S);
+  const Bounded<double> accurate = accurate_det(S);
   const int second = assemble<kFirst, true>(S, t.gs, t.es, t.c, accurate.value, accurate.error, m);
   if (second != 0) return second;
   v4d gab[3], eab[3], gba[3], eba[3];
@@ -632,9 +642,8 @@ Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, C
     }
   }
   if (!all((vabs(gba[0]) > eba[0]) & (vabs(gba[1]) > eba[1]) & (vabs(gba[2]) > eba[2]))) return Certified::kUncertain;
-  bool separated = false;
-  for (int k = 0; k < 3; ++k) separated |= int(all(gs[k] < zero)) | int(all(gl[k] < zero));
-  if (separated) return Certified::kSeparated;
+  // A beyond one of B's lines (B beyond one of A's was tested above).
+  if (int(all(gba[0] < zero)) | int(all(gba[1] < zero)) | int(all(gba[2] < zero))) return Certified::kSeparated;
 
   // The first try, with the plain determinant and Shewchuk's bounds on the orientations; where
   // its bound does not accept, the later ones (see "Tries" at the top).
