@@ -51,6 +51,20 @@ struct KernelEstimate {
 };
 KernelEstimate kernel_estimate(const Tet& U, const Tet& V);
 
+/// The refinement in S's frame (src/kernel/refined_clip.hpp) for S (the smaller tetrahedron) and
+/// B, both ways: as the kernel takes it, where the near-cover formula decides when all four of
+/// B's planes cut at most a thin part off S, and by clipping alone.
+struct NearCoverTrace {
+  bool certified = false;       ///< the refinement's result stands (else the exact last resort)
+  bool tried = false;           ///< the near-cover formula was evaluated
+  bool decided = false;         ///< and accepted: `moments` are its
+  double bound = 0.0;           ///< its error bound, relative to S's exact volume (where tried)
+  Moments moments;              ///< the refinement's result
+  bool clip_certified = false;  ///< the clipping's result stands
+  Moments clipped;              ///< the clipping's result
+};
+NearCoverTrace near_cover_trace(const Tet& S, const Tet& B);
+
 /// The combinatorial example of Section 5.1: (x, y, z) of X's vertices with the signs of
 /// Table 5 (w, x, y, z of vertices 0..3: ++++, ++++, +++-, +---); these dyadic values reproduce
 /// Tables 6 and 7 of the paper (found by search). w = 1 - x - y - z.

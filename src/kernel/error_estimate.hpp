@@ -205,8 +205,9 @@ bool accuracy_certified_a_posteriori(const Frame& fr, KernelResult& res) {
 }
 
 // Whether some coordinate of X is exactly 0: a vertex on a plane of Y, exactly or within the
-// rounding of its orientation (snapped, barycentric_map.hpp). For kernel_estimate.
-[[maybe_unused]] bool has_zero_coordinate(const double (&C)[4][4]) {
+// rounding of its orientation (snapped, barycentric_map.hpp). For X inside Y (solve.hpp) and
+// kernel_estimate.
+inline bool has_zero_coordinate(const double (&C)[4][4]) {
   bool zero = false;
   for (int i = 0; i < 4; ++i)
     for (int p = 0; p < 4; ++p) zero |= C[i][p] == 0.0;

@@ -141,20 +141,25 @@ struct Face {
 // where not; false where neither does (the exact last resort decides).
 constexpr double kWanted = 0x1p-47;
 
-// The four orientations of face f at the points p[0..3] (out), to kWanted of the largest.
-inline bool certified_orientations(Face& f, const Vec3* p, int count, double* out) {
-  double largest = 0.0, permanent = 0.0;
+// The four orientations of face f at the points p[0..3] (out), to kWanted of the largest, and
+// each one's own error bound (error[k]: |out[k] - exact| <= error[k]).
+inline bool certified_orientations(Face& f, const Vec3* p, int count, double* out, double* error) {
+  double largest = 0.0, permanent = 0.0, perm[4];
   for (int k = 0; k < count; ++k) {
-    double perm;
-    out[k] = f.orient(p[k], perm);
-    permanent = std::max(permanent, perm);
+    out[k] = f.orient(p[k], perm[k]);
+    error[k] = kDoubleError * perm[k] + 0x1p-1000;  // 2^-1000: roundings in the subnormal range
+    permanent = std::max(permanent, perm[k]);
     largest = std::max(largest, std::abs(out[k]));
   }
   if (kDoubleError * permanent <= kWanted * largest) return true;
   f.refine();
   largest = 0.0;
-  for (int k = 0; k < count; ++k) largest = std::max(largest, std::abs(out[k] = f.orient_refined(p[k])));
-  // 2^-1000: what underflow can take from the double-double's low parts.
+  for (int k = 0; k < count; ++k) {
+    largest = std::max(largest, std::abs(out[k] = f.orient_refined(p[k])));
+    // The double-double's bound, 2^-1000 for what underflow can take from its low parts, and
+    // the rounding of hi + lo to a double (half an ulp: 2^-53 of the value).
+    error[k] = (kDoubleDoubleError * perm[k] + 0x1p-1000) + 0x1p-53 * std::abs(out[k]);
+  }
   return kDoubleDoubleError * permanent + 0x1p-1000 <= kWanted * largest;
 }
 
@@ -285,30 +290,232 @@ void clip_moments(const ClipPoly& P, double& vol, double (&first)[3]) {
   for (int c = 0; c < 3; ++c) first[c] = m[c] / 24.0;
 }
 
+// --- S almost inside B: the volume from the parts of S that B's planes cut off ----------------
+//
+// Where each plane of B that cuts S cuts off only a thin part of it along one face of S (nearly
+// identical tetrahedra, as in a mesh and the same mesh slightly moved; a small S just across a
+// face of B), S n B = S minus the union of those parts W_j = S n {g_j < 0}, and each W_j has a
+// closed form: a tetrahedron, a wedge, or S less a tetrahedron, with corners on S's edges at
+// t = A / (A + C), A = -g at the edge's end beyond the plane, C = g at the other (no
+// cancellation: a sum of non-negative numbers). Volume fractions of the unit simplex:
+//  - one vertex a beyond: the tetrahedron (a, a + t_ab (b - a), ...): t_ab t_ac t_ad;
+//  - three beyond, b not: 1 - s_a s_c s_d, s_k = D_b / (D_b + A_k) (S less b's tetrahedron);
+//  - two, a and b, beyond, c and d not: the wedge between the triangles (a, p_ac, p_ad) and
+//    (b, p_bc, p_bd), the three tetrahedra (a, p_ac, p_ad, b), (p_ac, p_ad, b, p_bc),
+//    (p_ad, b, p_bc, p_bd), whose barycentric determinants are u v, v x (1 - u) and
+//    (1 - v) x y (u = t_ac, v = t_ad, x = t_bc, y = t_bd): all terms non-negative.
+// Each is evaluated to within 64 eps absolute (a fraction of at most 1; a dozen roundings of
+// relative eps each, on non-negative terms, and one subtraction from 1).
+// Error bound, as a fraction of S (derived, not calibrated):
+//  (1) The plane's values D are each within its bound E of the exact ones
+//      (certified_orientations). W_j shrinks as any D grows, so its exact fraction lies between
+//      the fractions at D + E and at D - E (rounded outward), each within 64 eps.
+//  (2) S n B = S minus the union of the W_j: its fraction lies between 1 - sum F_j and that plus
+//      the pairwise overlaps (Bonferroni). On W_j, with sigma the vertex of largest D (D > 0
+//      there even at D - E), lambda_sigma D_sigma < sum_{k != sigma} lambda_k (-D_k)+ <= max
+//      (-D_k)+, so W_j lies in {lambda_sigma < tau_j}, tau_j = max (E_k - D_k)+ / (D_sigma -
+//      E_sigma). For sigma_i != sigma_j the overlap is then at most the fraction of the unit
+//      simplex with lambda_a < tau_i and lambda_b < tau_j, 1 - (1 - x)^3 - (1 - y)^3 + (1 - x -
+//      y)_+^3 = 6 x y - 3 x^2 y - 3 x y^2 <= 6 x y (x + y <= 1; beyond, at most 3 min(x, y)); in
+//      any case at most the smaller W.
+//  (3) The result 1 - sum F_j (computed at D) is off by at most the sum of each F_j's distance
+//      to its interval, the overlaps, and the rounding of the four subtractions (4 eps).
+// The first moments: S's less each W_j's (the tetrahedra's centroids, exact in form), the
+// overlaps left out (at most 6 tau_i tau_j of S's volume, not bounded further).
+
+// The fraction of the unit simplex where sum_k lambda_k d[k] < 0, and with kFirst the first
+// moment of that part as four barycentric coordinates (fractions of S's volume times the mean
+// lambda).
+template <bool kFirst>
+double beyond_fraction(const double (&d)[4], double (&first)[4]) {
+  int neg[4], pos[4], nn = 0, np = 0;
+  for (int k = 0; k < 4; ++k) {
+    if (d[k] < 0.0)
+      neg[nn++] = k;
+    else
+      pos[np++] = k;
+  }
+  if constexpr (kFirst) first[0] = first[1] = first[2] = first[3] = 0.0;
+  if (nn == 0) return 0.0;
+  if (nn == 4) {
+    if constexpr (kFirst) first[0] = first[1] = first[2] = first[3] = 0.25;
+    return 1.0;
+  }
+  if (nn == 1) {
+    const int a = neg[0];
+    const double A = -d[a];
+    double t[3], f = 1.0, sum_t = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      t[i] = A / (A + d[pos[i]]);
+      f *= t[i];
+      sum_t += t[i];
+    }
+    if constexpr (kFirst) {
+      // The tetrahedron's centroid: (a + sum_k (a + t_ak (k - a))) / 4.
+      first[a] = f * ((4.0 - sum_t) * 0.25);
+      for (int i = 0; i < 3; ++i) first[pos[i]] = f * (t[i] * 0.25);
+    }
+    return f;
+  }
+  if (nn == 3) {
+    const int b = pos[0];
+    const double P = d[b];
+    double s[3], g = 1.0, sum_s = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      s[i] = P / (P - d[neg[i]]);
+      g *= s[i];
+      sum_s += s[i];
+    }
+    if constexpr (kFirst) {
+      // S's first moment (1/4 each) less that of b's tetrahedron.
+      first[b] = 0.25 - g * ((4.0 - sum_s) * 0.25);
+      for (int i = 0; i < 3; ++i) first[neg[i]] = 0.25 - g * (s[i] * 0.25);
+    }
+    return 1.0 - g;
+  }
+  // Two beyond (a, b), two not (c, d).
+  const int a = neg[0], b = neg[1], c = pos[0], e = pos[1];
+  const double A = -d[a], B = -d[b];
+  const double u = A / (A + d[c]), v = A / (A + d[e]), x = B / (B + d[c]), y = B / (B + d[e]);
+  const double w1 = u * v, w2 = (v * x) * (1.0 - u), w3 = ((1.0 - v) * x) * y;
+  if constexpr (kFirst) {
+    // Sums of the three tetrahedra's vertices, coordinate by coordinate (a, b, c, d):
+    // (a, p_ac, p_ad, b), (p_ac, p_ad, b, p_bc), (p_ad, b, p_bc, p_bd).
+    first[a] = (w1 * ((3.0 - u) - v) + w2 * ((1.0 - u) + (1.0 - v)) + w3 * (1.0 - v)) * 0.25;
+    first[b] = (w1 + w2 * (2.0 - x) + w3 * ((3.0 - x) - y)) * 0.25;
+    first[c] = (w1 * u + w2 * (u + x) + w3 * x) * 0.25;
+    first[e] = (w1 * v + w2 * v + w3 * (v + y)) * 0.25;
+  }
+  return (w1 + w2) + w3;
+}
+
+// What near_cover keeps of one plane.
+struct CoverPlane {
+  double fraction;   // F_j at the computed D
+  double deviation;  // how far the exact F_j can be from it
+  double upper;      // an upper bound on the exact F_j
+  double tau;        // W_j lies in {lambda_sigma < tau} (infinite where no sigma is certain)
+  int sigma;
+  bool cuts;         // false: the plane certainly cuts nothing off S (every D - E >= 0)
+  double first[4];   // W_j's first moment (barycentric), at the computed D
+};
+
+constexpr double kFractionError = 64.0 * 0x1p-53;  // beyond_fraction's own rounding (above)
+
+// The largest bound the near-cover formula is accepted with, relative to S's volume.
+constexpr double kNearCoverAccepted = 0x1p-44;
+
+inline void cover_plane(const double (&d)[4], const double (&e)[4], CoverPlane& c) {
+  double up[4], down[4];
+  for (int k = 0; k < 4; ++k) {
+    const double u = d[k] + e[k], l = d[k] - e[k];
+    up[k] = u + 0x1p-52 * std::abs(u);  // at least d + e, whatever the rounding
+    down[k] = l - 0x1p-52 * std::abs(l);
+  }
+  double unused[4];
+  const double f_down = beyond_fraction<false>(down, unused);
+  c.cuts = f_down != 0.0;  // 0 only where every d - e >= 0: nothing cut off exactly either
+  c.fraction = beyond_fraction<true>(d, c.first);
+  if (!c.cuts) {
+    c.deviation = c.upper = 0.0;
+    c.tau = 0.0;
+    c.sigma = -1;
+    return;
+  }
+  const double f_up = beyond_fraction<false>(up, unused);
+  c.upper = f_down + kFractionError;
+  c.deviation = std::max(c.upper - c.fraction, c.fraction - (f_up - kFractionError));
+  int s = 0;
+  for (int k = 1; k < 4; ++k) s = d[k] > d[s] ? k : s;
+  c.sigma = s;
+  double beyond = 0.0;
+  for (int k = 0; k < 4; ++k)
+    if (k != s) beyond = std::max(beyond, -down[k]);
+  c.tau = down[s] > 0.0 ? (beyond / down[s]) * (1.0 + 0x1p-50) : INFINITY;
+}
+
+// Whether a plane is worth keeping for near_cover: it cuts nothing, or only a thin part
+// along one face of S. (Only a filter: near_cover's bound decides.)
+inline bool thin_cut(const CoverPlane& c) { return !c.cuts || c.tau <= 0x1p-10; }
+
+// S n B's fraction of S from the four planes (near-cover, above), its first moment
+// (barycentric), and the bound on the fraction's error.
+inline double near_cover(const CoverPlane (&c)[4], double& bound, double (&first)[4]) {
+  double cut = 0.0;
+  bound = 0.0;
+  for (int k = 0; k < 4; ++k) first[k] = 0.25;
+  for (int j = 0; j < 4; ++j) {
+    cut += c[j].fraction;
+    bound += c[j].deviation;
+    for (int k = 0; k < 4; ++k) first[k] -= c[j].first[k];
+    for (int i = 0; i < j; ++i) {
+      if (!c[i].cuts || !c[j].cuts) continue;
+      double overlap = std::min(c[i].upper, c[j].upper);
+      if (c[i].sigma != c[j].sigma) overlap = std::min(overlap, (6.0 * c[i].tau) * c[j].tau * (1.0 + 0x1p-50));
+      bound += overlap;
+    }
+  }
+  bound = (bound + 4.0 * 0x1p-53) * (1.0 + 0x1p-50);
+  return 1.0 - cut;
+}
+
 }  // namespace refined_impl
 
-// det6(t) = orient3d(t0, t1, t2, t3), certified to 2^-47 of itself; false where it is not.
-inline bool refined_det6(const Tet& t, double& det6) {
+// det6(t) = orient3d(t0, t1, t2, t3), certified to 2^-47 of itself, with its own error bound;
+// false where it is not certified.
+inline bool refined_det6(const Tet& t, double& det6, double& error) {
   refined_impl::Face f(t[0], t[1], t[2]);
-  return refined_impl::certified_orientations(f, &t[3], 1, &det6);
+  return refined_impl::certified_orientations(f, &t[3], 1, &det6, &error);
+}
+
+inline bool refined_det6(const Tet& t, double& det6) {
+  double error;
+  return refined_det6(t, det6, error);
 }
 
 // kMoments: the first moments too (else out.first is 0; the volume is the same number).
+// What the near-cover formula found (for the tests: kernel_trace.hpp's near_cover_trace).
+struct NearCoverReport {
+  bool tried = false;    // all four planes thin: the formula was evaluated
+  bool decided = false;  // and accepted
+  double bound = 0.0;    // its error bound relative to S's exact volume
+};
+
+// clip_only: the clipping whatever the planes (for the tests).
 template <bool kMoments = true>
-bool refined_moments(const Tet& S, const Tet& B, double det6_B, Moments& out) {
+bool refined_moments(const Tet& S, const Tet& B, double det6_B, Moments& out, NearCoverReport* report = nullptr,
+                     bool clip_only = false) {
   using namespace refined_impl;
   static constexpr int kFaceVerts[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
   ClipPoly P;
   unit_simplex(P);
+  // Each plane's values are kept; the planes that cut only a thin part off S along one of its
+  // faces (or nothing) are not clipped yet: if all four are such, the near-cover formula may
+  // decide without clipping (above). Otherwise the planes are clipped in their order, as if
+  // none had waited.
+  double planes[4][4];
+  CoverPlane cover[4];
+  bool covering = !clip_only;
+  int clipped = 0;
+  const auto clip_up_to = [&](int last) {  // false: the polytope is empty (or broke)
+    for (; clipped <= last; ++clipped)
+      if (!clip(P, planes[clipped])) return false;
+    return true;
+  };
   for (int j = 0; j < 4; ++j) {
     // Face j of B oriented so that B's vertex j is on its positive side:
     // orient3d(f0, f1, f2, b_j) = (-1)^(j+1) det6(B) (barycentric_map.hpp).
     Face f(B[kFaceVerts[j][0]], B[kFaceVerts[j][1]], B[kFaceVerts[j][2]]);
-    double d[4];
-    if (!certified_orientations(f, S.data(), 4, d)) return false;
+    double error[4];
+    if (!certified_orientations(f, S.data(), 4, planes[j], error)) return false;
     if (((j % 2 == 0) ? -det6_B : det6_B) < 0.0)
-      for (double& x : d) x = -x;
-    if (!clip(P, d)) {
+      for (double& x : planes[j]) x = -x;
+    if (covering) {
+      cover_plane(planes[j], error, cover[j]);
+      if (thin_cut(cover[j])) continue;
+      covering = false;
+    }
+    if (!clip_up_to(j)) {
       if (P.failed) return false;
       out = Moments{};
       return true;
@@ -316,11 +523,34 @@ bool refined_moments(const Tet& S, const Tet& B, double det6_B, Moments& out) {
   }
   // S's det6 only now: an empty intersection (the usual case among the pairs refined) does not
   // need it.
-  double det6_S;
-  if (!refined_det6(S, det6_S)) return false;
+  double det6_S, det6_error;
+  if (!refined_det6(S, det6_S, det6_error)) return false;
+  const double scale = std::abs(det6_S);
+  if (covering) {
+    double bound, first_bary[4];
+    const double fraction = near_cover(cover, bound, first_bary);
+    // In units of S's exact volume: the fraction's error, S's det6's error times the fraction,
+    // and the rounding of the product below (three roundings and 1/6's).
+    const double total = (bound * scale + fraction * det6_error) / (scale - det6_error) + 5.0 * 0x1p-53;
+    const bool accepted = fraction >= 0.5 && total <= kNearCoverAccepted;
+    if (report) *report = NearCoverReport{true, accepted, total};
+    if (accepted) {
+      out.volume = fraction * scale * (1.0 / 6.0);
+      if constexpr (kMoments) {
+        const Vec3 e1 = S[1] - S[0], e2 = S[2] - S[0], e3 = S[3] - S[0];
+        const double v6 = scale * (1.0 / 6.0);
+        out.first = out.volume * S[0] + v6 * (first_bary[1] * e1 + first_bary[2] * e2 + first_bary[3] * e3);
+      }
+      return true;
+    }
+    if (!clip_up_to(3)) {
+      if (P.failed) return false;
+      out = Moments{};
+      return true;
+    }
+  }
   double vol_ref, first_ref[3];
   clip_moments<kMoments>(P, vol_ref, first_ref);
-  const double scale = std::abs(det6_S);
   out.volume = vol_ref * scale;
   if (!(out.volume > 0.0)) {
     out = Moments{};

@@ -191,12 +191,21 @@ Outcome solve_with(const MakeFrame& make_frame, Frame& fr, KernelResult& res, In
     return Outcome::empty;
   }
   if (res.x_inside) {
+    // X inside Y is certain where no coordinate of X was snapped to 0: every sign is then beyond
+    // its rounding bound (barycentric_map.hpp). A snapped one puts a vertex of X on a plane of Y
+    // that it may cross by up to the map's rounding, far more than 1e-12 of a much smaller X
+    // (a small X just across a face of a big Y): then the a priori estimate decides, and what
+    // it does not certify is refined.
+    if (has_zero_coordinate(fr.C) && !accuracy_certified(fr)) [[unlikely]] {
+      if (stats) ++stats->refined;
+      if (!refine<kMoments>(fr, res)) return Outcome::exact;
+    }
     // X's own volume |det6| / 6: its rounding is below 2^-49 of det6's permanent, at most
     // (2/3) s^(3/2) (the product of three edges whose squares sum to at most s is at most
     // (s/3)^(3/2), and the permanent has 2 sqrt(3) such products at most), so below 1e-13 of
     // det6 where the quality |det6| / s^(3/2) is at least 2^-49 (2/3) / 1e-13 = 1.2e-3; a
     // thinner X gets its det6 in double-double.
-    if (!(std::abs(fr.det6_sub) >= kInsideQuality * fr.s_sub * std::sqrt(fr.s_sub))) [[unlikely]] {
+    else if (!(std::abs(fr.det6_sub) >= kInsideQuality * fr.s_sub * std::sqrt(fr.s_sub))) [[unlikely]] {
       if (stats) ++stats->refined;
       if (!refine_inside(fr, res)) return Outcome::exact;
     }

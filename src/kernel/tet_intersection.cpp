@@ -203,6 +203,19 @@ KernelEstimate kernel_estimate(const Tet& U, const Tet& V) {
   return e;
 }
 
+NearCoverTrace near_cover_trace(const Tet& S, const Tet& B) {
+  NearCoverTrace t;
+  const Vec3 e1 = B[1] - B[0], e2 = B[2] - B[0], e3 = B[3] - B[0];
+  const double det6_B = dot(cross(e1, e2), e3);  // its sign only
+  NearCoverReport report;
+  t.certified = refined_moments<true>(S, B, det6_B, t.moments, &report);
+  t.tried = report.tried;
+  t.decided = report.decided;
+  t.bound = report.bound;
+  t.clip_certified = refined_moments<true>(S, B, det6_B, t.clipped, nullptr, true);
+  return t;
+}
+
 void trace_kernel(const double (&C)[4][4], KernelTrace& t, IntersectionStats* stats) {
   Kernel<true, true> k(C, stats);
   KernelResult res;
