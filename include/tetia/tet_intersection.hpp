@@ -11,7 +11,8 @@
 //    frame that is flat or not finite in doubles for finite input, a tetrahedron flat to the
 //    rounding of its own coordinates, labels that close with neither reference, a volume that is
 //    not finite or exceeds the smaller tetrahedron) is computed exactly (GMP) and rounded once;
-//    the statistics count it. A tetrahedron inside the other is returned exactly.
+//    the statistics count it. A tetrahedron certainly inside the other (every vertex beyond
+//    the rounding of its orientations) is returned exactly.
 //  - Accuracy: within 1e-12 of the exact volume relative to the smaller tetrahedron, at any
 //    size ratio, sliver height, scale or distance from the origin, wherever the smaller one is
 //    not flat to the rounding of its own coordinates (shape quality above 2^-40, below which the
@@ -20,7 +21,9 @@
 //    where needed (IntersectionStats::refined; beyond a size ratio of about 2^50, exactly).
 //    The estimate's constant is calibrated against GMP on the test families and under a
 //    directed search for its worst case, not proven (docs/architecture.md, "Accuracy relative
-//    to the smaller tetrahedron").
+//    to the smaller tetrahedron"); where the refinement finds the smaller tetrahedron nearly
+//    inside the other (each plane cutting at most a thin part off it), its result carries a
+//    derived bound instead (the near-cover formula).
 //  - The result is consistent: its corners and facets form a closed polytope whose facets are
 //    built from labels alone, so a real intersection cannot vanish through rounding
 //    (Theorem 6 and Corollary 2 of the paper).

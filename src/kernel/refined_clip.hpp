@@ -23,7 +23,9 @@
 // moments of S n B and returns true when det6(S) and every D are certified to 2^-47 of the
 // largest of their plane (error bounds below: doubles where they suffice, double-double where
 // not), which holds for size ratios up to about 2^50; false otherwise (the caller takes the
-// exact last resort). det6_B, B's det6 in doubles, gives only the sign of B's orientation (B is
+// exact last resort). Where every plane of B cuts at most a thin part off S, the near-cover
+// formula (below) decides first, without clipping, when its derived bound is at most 2^-44 of
+// S's volume. det6_B, B's det6 in doubles, gives only the sign of B's orientation (B is
 // not flat to rounding: the caller checked its quality). Sizes within the kernel's range
 // (frame.hpp's FrameStatus): no overflow. Allocation-free; not the hot path (about a
 // microsecond).

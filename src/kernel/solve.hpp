@@ -177,8 +177,8 @@ Outcome solve_with(const MakeFrame& make_frame, Frame& fr, KernelResult& res, In
   }
   if (stats && res.contradiction) ++stats->inconsistencies;
   if (fr.flat_to_rounding) [[unlikely]] return Outcome::exact;  // the kernel's polytope kept in res
-  // Accuracy relative to the smaller tetrahedron: X inside Y is exact (X's own volume), and so
-  // is an empty result with X strictly beyond a plane of Y; otherwise the estimate decides
+  // Accuracy relative to the smaller tetrahedron: X certainly inside Y is exact (X's own
+  // volume), and so is an empty result with X strictly beyond a plane of Y; otherwise the estimate decides
   // whether the double result stands. An empty result whose refined volume exceeds 1e-12 of
   // the smaller tetrahedron (X across a face of a much bigger Y, within its rounding) has no
   // corners to show for it: exact then; below that, empty is within the accuracy promised.
