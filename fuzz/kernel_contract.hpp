@@ -37,9 +37,9 @@
 //                            tests use), for two inputs of quality above 1e-10 (so that neither
 //                            is flat as computed, which the contract allows to give 0)
 //   vanished-overflow        the same, but the exact intersection exceeds DBL_MAX
-//   inaccurate-smaller       3D: |v - exact| > 1e-12 min(|U|, |V|) + 64 * 2^-1074 where the
-//                            smaller tetrahedron's quality is at least 2^-40 (not flat to the
-//                            rounding of its own coordinates): the accuracy the header promises
+//   inaccurate-smaller       |v - exact| > 1e-12 min(|U|, |V|) + 64 * 2^-1074 where the
+//                            smaller cell's quality is at least 2^-40 (not flat to the rounding
+//                            of its own coordinates): the accuracy the headers promise
 //   inaccurate               |v - exact| > 1e-6 max(|U|, |V|) + 64 * 2^-1074 for two inputs of
 //                            quality above 1e-3 with finite volumes: a loose sanity bound (the
 //                            kernel tests hold 1e-12), so that only plainly wrong results count
@@ -314,9 +314,10 @@ std::string judge(const Shape& X, const Shape& Y, const std::string& measure,
       return report;
     }
   }
-  if constexpr (std::is_same_v<Shape, Tet>) {
-    // 3D: within 1e-12 of the smaller tetrahedron whenever that one is not flat to the rounding
-    // of its own coordinates (quality at least 2^-40, the kernel's kFlatQuality).
+  {
+    // Within 1e-12 of the smaller cell whenever that one is not flat to the rounding of its own
+    // coordinates (quality at least 2^-40, the 3D kernel's kFlatQuality; the 2D kernel promises
+    // it for every triangle, and is held to it alike).
     const bool x_smaller = ex <= ey;
     if (std::isfinite(v) && std::isfinite(vmin) &&
         quality_at_least(x_smaller ? X : Y, x_smaller ? ex : ey, flat_quality_sq())) {

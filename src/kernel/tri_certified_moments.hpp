@@ -625,11 +625,21 @@ Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, C
   // One way first: near-identical triangles, and neighbours in a mesh, stop there.
   v4d gab[3], eab[3], gba[3], eba[3];
   orientations(ca, cb, gab, eab);  // B's vertices against A's lines
-  if (!all((vabs(gab[0]) > eab[0]) & (vabs(gab[1]) > eab[1]) & (vabs(gab[2]) > eab[2]))) return Certified::kUncertain;
   const v4d zero = splat(0.0);
+  // Whether the three vertices are certainly beyond one of the lines (each orientation below
+  // minus its bound): apart, whatever the other orientations.
+  const auto beyond = [&](const v4d (&g)[3], const v4d (&e)[3]) {
+    return int(all(g[0] + e[0] < zero)) | int(all(g[1] + e[1] < zero)) | int(all(g[2] + e[2] < zero));
+  };
   // B beyond one of A's lines: apart, without the other way's orientations (about half of the
   // pairs that are apart; the result, exactly 0, is the same whichever way finds it).
-  if (int(all(gab[0] < zero)) | int(all(gab[1] < zero)) | int(all(gab[2] < zero))) return Certified::kSeparated;
+  if (beyond(gab, eab)) return Certified::kSeparated;
+  if (!all((vabs(gab[0]) > eab[0]) & (vabs(gab[1]) > eab[1]) & (vabs(gab[2]) > eab[2]))) [[unlikely]] {
+    // Uncertain one way; A may still be beyond one of B's lines, and the outcome must not depend
+    // on which way was looked at first (the argument order).
+    orientations(cb, ca, gba, eba);
+    return beyond(gba, eba) ? Certified::kSeparated : Certified::kUncertain;
+  }
   orientations(cb, ca, gba, eba);  // A's vertices against B's lines
   v4d gs[3], es[3], gl[3], el[3];
   {
@@ -641,9 +651,10 @@ Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, C
       el[k] = select(m, eba[k], eab[k]);
     }
   }
+  // A beyond one of B's lines (B beyond one of A's was tested above), whether or not every
+  // other orientation is certain.
+  if (beyond(gba, eba)) return Certified::kSeparated;
   if (!all((vabs(gba[0]) > eba[0]) & (vabs(gba[1]) > eba[1]) & (vabs(gba[2]) > eba[2]))) return Certified::kUncertain;
-  // A beyond one of B's lines (B beyond one of A's was tested above).
-  if (int(all(gba[0] < zero)) | int(all(gba[1] < zero)) | int(all(gba[2] < zero))) return Certified::kSeparated;
 
   // The first try, with the plain determinant and Shewchuk's bounds on the orientations; where
   // its bound does not accept, the later ones (see "Tries" at the top).

@@ -85,9 +85,10 @@ constexpr int kEdgeTo[3] = {2, 0, 1};
 double orient2d_accurate(Vec2 a, Vec2 b, Vec2 c);
 
 // What the kernel needs besides X's coordinates to decide a sign the coordinates cannot: the
-// two triangles (X = sub, Y = ref, in the frame's scaled, canonical order), whether X's
-// coordinates are large (`careful`: some |coordinate| above 2^8, X's vertices far from Y for
-// Y's size), a bound on every coordinate's error, and the sign of Y's determinant.
+// two triangles (X = sub, Y = ref, in the frame's scaled, canonical order), whether the signs
+// need care (`careful`: some |coordinate| above 2^8, X's vertices far from Y for Y's size; or
+// sizes more than 2^10 apart), a bound on every coordinate's error, and the sign of Y's
+// determinant.
 struct SignGeometry {
   const Triangle* sub;
   const Triangle* ref;
@@ -165,10 +166,12 @@ class Kernel {
   //
   // The sign of the computed numerator may be wrong where it is within its error bound, by the
   // coordinates' errors and the products' rounding. Where X's coordinates are moderate (at most
-  // 2^8: the usual case, nothing is tested) that amounts to moving a vertex of X by about eps
-  // times Y's size, a perturbation the result's accuracy does not notice; the signs are then
-  // consistent (decided once, inherited), which is what Theorem 6 needs. Where they are large
-  // (`careful`: X much bigger than Y, so that the same error is eps times X's size), a
+  // 2^8) and the sizes comparable (the usual case, nothing is tested) that amounts to moving a
+  // vertex of X by about eps times Y's size, a perturbation the result's accuracy does not
+  // notice; the signs are then consistent (decided once, inherited), which is what Theorem 6
+  // needs. Where they are large (`careful`: X much bigger than Y, so that the same error is eps
+  // times X's size), or X far smaller than Y (`careful` too: eps times Y's size is then much of
+  // X, near a vertex of Y where two coordinates are small), a
   // numerator within its bound, 4 c_error c_max + 2^-51 (|a| + |b|), takes its sign from the
   // input instead: with lambda_y, lambda_x affine and both zero at Y's vertex r, the numerator is
   // lambda_y(x_i) lambda_x(x_j) - lambda_y(x_j) lambda_x(x_i) = K orient2d(u_i, u_j, y_r), the
@@ -567,7 +570,8 @@ struct Frame {
   double inv_det2;      // 1 / det2, the scale of the reference's map
   double C[3][3];
   double C_perm[3][3];  // the permanents of C's entries (BarycentricMap)
-  bool careful;         // some |entry| of C above 2^8 (X's vertices far from Y for Y's size)
+  bool careful;         // some |entry| of C above 2^8 (X's vertices far from Y for Y's size), or
+                        // sizes more than 2^10 apart
   double C_error;       // with `careful`: a bound on every entry's error
   double C_max;         // with `careful`: the largest |entry|
   double size_squared_max;  // the larger sum of squared edge lengths (make_frame)
@@ -590,10 +594,26 @@ void corner_coordinates(const Frame& fr, KernelResult& r, TriIntersectionStats* 
   const auto& C = fr.C;
   // The frame the area is measured in: X's when X is the smaller triangle.
   const bool sub_frame = std::abs(fr.det2_sub) < std::abs(fr.det2);
+  // The map's error bound on X's coordinates of vertex i, in units of Y's frame: where the area
+  // is measured there, a bound above 2^-47 (Y a needle, X's vertices far from Y's anchors) is
+  // not accurate enough relative to Y, and what is built from those coordinates is made again
+  // from the input (orient2d_accurate).
+  const auto coarse = [&](int i) {
+    const double perm = std::max(std::max(fr.C_perm[i][0], fr.C_perm[i][1]), fr.C_perm[i][2]);
+    return !sub_frame && !(BarycentricMap::kErrBound * perm * std::abs(fr.inv_det2) <= 0x1p-47);
+  };
   for (int c = 0; c < r.num_corners; ++c) {
     RawCorner& k = r.corners[c];
     if (k.kind == kVertexOfX) {
       for (int p = 0; p < 3; ++p) k.bary[p] = C[k.index][p];
+      if (coarse(k.index)) [[unlikely]] {
+        // Inside Y by the signs: coordinates clamped to agree, exact zeros (on a line of Y, as
+        // the signs decided) kept.
+        double b[3];
+        BarycentricMap(*fr.ref, fr.det2).accurate((*fr.sub)[k.index], b);
+        for (int p = 0; p < 3; ++p) k.bary[p] = C[k.index][p] == 0.0 ? 0.0 : std::max(b[p], 0.0);
+        if (stats) ++stats->refined;
+      }
     } else if (k.kind == kVertexOfY) {
       for (int p = 0; p < 3; ++p) k.bary[p] = p == k.index ? 1.0 : 0.0;
     } else {
@@ -628,8 +648,11 @@ void corner_coordinates(const Frame& fr, KernelResult& r, TriIntersectionStats* 
       if (fr.careful && !sub_frame && ci != 0.0 && cj != 0.0) [[unlikely]] {
         const double M = fr.C_max;  // at least the largest coordinate involved
         dual = M * M > 128.0 * std::abs(ci - cj);
-        refine |= dual;  // t then as accurate as the corner, so that both describe one point
       }
+      // Likewise where the ends' coordinates are coarse in Y's frame (coarse, above).
+      if (ci != 0.0 && cj != 0.0 && (coarse(i) || coarse(j))) [[unlikely]]
+        dual = true;
+      refine |= dual;  // t then as accurate as the corner, so that both describe one point
       const Triangle& ref = *fr.ref;
       const Triangle& sub = *fr.sub;
       if (refine) [[unlikely]] {
@@ -800,8 +823,13 @@ FrameStatus make_frame(const Triangle& A_in, const Triangle& B_in, Frame& fr, bo
     finite &= unsigned(m <= 0x1.fffffffffffffp1023);
     big |= unsigned(m > 0x1p8);
   }
-  fr.careful = big != 0;
-  if (big) [[unlikely]] {
+  // Careful too where the sizes are far apart and X is the smaller: X's coordinates are then
+  // moderate, but their errors, eps times Y's size, are a good part of X; the order of two
+  // crossings along an edge of X (crosses_before) near a vertex of Y, the product of two such
+  // coordinates, then has no reliable sign in doubles (a small X around a vertex of a 1e15
+  // times bigger Y lost its whole intersection before 2026-12-06).
+  fr.careful = (big != 0) | accurate_near_zero;
+  if (fr.careful) [[unlikely]] {
     double c_max = 0.0, perm_max = 0.0;
     for (int i = 0; i < 3; ++i)
       for (int p = 0; p < 3; ++p) {

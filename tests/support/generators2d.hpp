@@ -669,9 +669,10 @@ inline std::vector<Case> tiny_in_big() {
 /// Pairs whose error is measured against the smaller triangle at every size ratio, sliver
 /// height, scale and distance from the origin (arbitrary doubles; the exact reference takes
 /// them as they are):
-///  - ratio-cut-R, ratio-in-R: a random triangle 1/R the size of a rotated reference (no edge
-///    axis-aligned), centred on the midpoint of one of its edges (cut by it) or strictly inside,
-///    R = 1e3, 1e6, 1e9, 1e12, 1e14, 1e16;
+///  - ratio-cut-R, ratio-in-R, ratio-vertex-R: a random triangle 1/R the size of a rotated
+///    reference (no edge axis-aligned), centred on the midpoint of one of its edges (cut by it),
+///    strictly inside, or with one of its vertices within 0.6 of its centroid, R = 1e3, 1e6,
+///    1e9, 1e12, 1e14, 1e16;
 ///  - sliver-H: a triangle of relative height H = 1e-6, 1e-9, 1e-12 across a fat one, rotated;
 ///  - scale-K: a random pair scaled by 2^K, K = +-300, +-400, +-500 (the products of the
 ///    kernel leave the double range there without the rescaling);
@@ -682,6 +683,8 @@ inline std::vector<Case> adversarial() {
   const double ratios[] = {1e3, 1e6, 1e9, 1e12, 1e14, 1e16};
   const char* cut_kinds[] = {"ratio-cut-1e3", "ratio-cut-1e6", "ratio-cut-1e9", "ratio-cut-1e12", "ratio-cut-1e14", "ratio-cut-1e16"};
   const char* in_kinds[] = {"ratio-in-1e3", "ratio-in-1e6", "ratio-in-1e9", "ratio-in-1e12", "ratio-in-1e14", "ratio-in-1e16"};
+  const char* vertex_kinds[] = {"ratio-vertex-1e3", "ratio-vertex-1e6", "ratio-vertex-1e9", "ratio-vertex-1e12", "ratio-vertex-1e14",
+                                "ratio-vertex-1e16"};
   auto fat = [&](double size) {
     for (;;) {
       const Triangle t = scale(unit_random_tri(g), size);
@@ -702,6 +705,11 @@ inline std::vector<Case> adversarial() {
       v.push_back(make_case(g, random_perm(g, translate(big, c - mid)), random_perm(g, t), cut_kinds[r]));
       const Vec2 inside = (1.0 / 3.0) * (big[0] + big[1] + big[2]);
       v.push_back(make_case(g, random_perm(g, translate(big, c - inside)), random_perm(g, t), in_kinds[r]));
+      // A vertex of the big one in or near the small one: two of its lines cross the small
+      // triangle close together, where the order of their crossings along its edges is decided.
+      const double phi = urand(g, 0.0, 6.2), rho = urand(g, 0.0, 0.6);
+      const Vec2 near = c + Vec2{rho * std::cos(phi), rho * std::sin(phi)};
+      v.push_back(make_case(g, random_perm(g, translate(big, near - big[irand(g, 0, 2)])), random_perm(g, t), vertex_kinds[r]));
     }
   const double heights[] = {1e-6, 1e-9, 1e-12};
   const char* sliver_kinds[] = {"sliver-1e-6", "sliver-1e-9", "sliver-1e-12"};
