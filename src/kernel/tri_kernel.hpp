@@ -522,9 +522,12 @@ struct BarycentricMap {
   // between triangles of similar size (the point moves by eps of them), but for a triangle
   // much smaller than the reference (1e-14 of it, say) a good part of the small triangle, and
   // for one much larger (X far bigger than Y) many times Y. With `accurate_near_zero` (sizes
-  // more than 2^10 apart, make_frame) such a coordinate is evaluated again accurately
-  // (orient2d_accurate), and only what is zero to that evaluation's own error, 8 eps^2 times the
-  // permanent, is snapped (a point exactly on the line gives exactly 0 either way).
+  // more than 2^10 apart, make_frame) such a coordinate is evaluated again, correctly rounded
+  // (orient2d_nearest: its sign exact, nothing snapped, a point exactly on the line exactly 0),
+  // or where that does not apply in double-double, and then only what is zero to that
+  // evaluation's own error, 8 eps^2 times the permanent, is snapped. (Snapped after a correctly
+  // rounded evaluation too, before 2026-12-06, a vertex of a needle 2.7e-11 wide moved by 2e-8
+  // across a line of a triangle 1e23 big: fuzz/regressions/fuzz_tri_kernel/found-2026-12-06.txt.)
   //
   // perm[k]: the permanent of coordinate k; kErrBound perm[k] |inv| bounds its error (the
   // common rounding of inv scales all coordinates alike and changes no sign the kernel takes).
@@ -536,8 +539,12 @@ struct BarycentricMap {
       const double permanent = std::abs(l) + std::abs(rr);
       perm[k] = permanent;
       if (!(std::abs(det) > kErrBound * permanent)) [[unlikely]] {
-        det = accurate_near_zero ? orient2d_accurate(anchor[k], to[k], u) : 0.0;
-        if (!(std::abs(det) > 8.0 * 0x1p-106 * permanent)) det = 0.0;
+        if (!accurate_near_zero) {
+          det = 0.0;
+        } else if (!detail::orient2d_nearest(anchor[k].x, anchor[k].y, to[k].x, to[k].y, u.x, u.y, det)) {
+          det = orient2d_dd(anchor[k], to[k], u);
+          if (!(std::abs(det) > 8.0 * 0x1p-106 * permanent)) det = 0.0;
+        }
       }
       out[k] = det * inv;
       if (std::abs(out[k]) < 0x1p-500) out[k] = 0.0;  // see make_frame: products stay normal
