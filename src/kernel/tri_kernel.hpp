@@ -577,10 +577,10 @@ struct Frame {
   double inv_det2;      // 1 / det2, the scale of the reference's map
   double C[3][3];
   double C_perm[3][3];  // the permanents of C's entries (BarycentricMap)
-  bool careful;         // some |entry| of C above 2^8 (X's vertices far from Y for Y's size), or
-                        // sizes more than 2^10 apart
-  double C_error;       // with `careful`: a bound on every entry's error
-  double C_max;         // with `careful`: the largest |entry|
+  bool careful;         // some |entry| of C above 2^8 (X's vertices far from Y for Y's size),
+                        // sizes more than 2^10 apart, or X thin for Y's resolution (make_frame)
+  double C_error;       // a bound on every entry's error
+  double C_max;         // the largest |entry|
   double size_squared_max;  // the larger sum of squared edge lengths (make_frame)
 };
 
@@ -823,29 +823,33 @@ FrameStatus make_frame(const Triangle& A_in, const Triangle& B_in, Frame& fr, bo
   fr.inv_det2 = bary.inv;
   for (int i = 0; i < 3; ++i) bary((*fr.sub)[i], fr.C[i], fr.C_perm[i], accurate_near_zero);
   // Whether every coordinate is finite (not NaN, not infinite) and whether some is large; as
-  // bitwise operations on the comparisons, over the nine as one array (vectorizable).
+  // bitwise operations on the comparisons, over the nine as one array (vectorizable). Their
+  // largest magnitude and permanent: C_error bounds every coordinate's error.
   unsigned finite = 1, big = 0;
+  double c_max = 0.0, perm_max = 0.0;
   for (int k = 0; k < 9; ++k) {
     const double m = std::abs(fr.C[k / 3][k % 3]);
     finite &= unsigned(m <= 0x1.fffffffffffffp1023);
     big |= unsigned(m > 0x1p8);
+    c_max = std::max(c_max, m);
+    perm_max = std::max(perm_max, fr.C_perm[k / 3][k % 3]);
   }
+  fr.C_max = c_max;
+  fr.C_error = BarycentricMap::kErrBound * perm_max * std::abs(bary.inv) * (1.0 + 0x1p-50);
+  // X thin for the resolution of Y's coordinates: moving X's vertices by C_error would change
+  // its area, |det2_sub / det2| in Y's units, by more than 2^-40 of it (a needle across a flat
+  // Y). Its coordinates near 0 are then evaluated accurately, as between sizes far apart, and
+  // its signs decided with care (below).
+  const bool x_thin = fr.C_error * std::max(c_max, 1.0) > 0x1p-40 * std::abs(fr.det2_sub * bary.inv);
+  if (x_thin && !accurate_near_zero) [[unlikely]]
+    for (int i = 0; i < 3; ++i) bary((*fr.sub)[i], fr.C[i], fr.C_perm[i], true);
   // Careful too where the sizes are far apart and X is the smaller: X's coordinates are then
   // moderate, but their errors, eps times Y's size, are a good part of X; the order of two
   // crossings along an edge of X (crosses_before) near a vertex of Y, the product of two such
   // coordinates, then has no reliable sign in doubles (a small X around a vertex of a 1e15
-  // times bigger Y lost its whole intersection before 2026-12-06).
-  fr.careful = (big != 0) | accurate_near_zero;
-  if (fr.careful) [[unlikely]] {
-    double c_max = 0.0, perm_max = 0.0;
-    for (int i = 0; i < 3; ++i)
-      for (int p = 0; p < 3; ++p) {
-        c_max = std::max(c_max, std::abs(fr.C[i][p]));
-        perm_max = std::max(perm_max, fr.C_perm[i][p]);
-      }
-    fr.C_max = c_max;
-    fr.C_error = BarycentricMap::kErrBound * perm_max * std::abs(bary.inv) * (1.0 + 0x1p-50);
-  }
+  // times bigger Y lost its whole intersection before 2026-12-06); and where X is thin for Y's
+  // resolution (x_thin).
+  fr.careful = (big != 0) | accurate_near_zero | x_thin;
   return finite ? FrameStatus::ok : FrameStatus::flat_or_not_finite;
 }
 
