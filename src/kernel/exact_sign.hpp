@@ -82,8 +82,9 @@ inline void exact_differences(double ax, double ay, double bx, double by, double
 }  // namespace exact_sign_impl
 
 // The expansion of det[b - a, c - a] (up to 32 components, increasing magnitude); returns its
-// length, or -1 where a difference is 2^496 or more (or not finite). A product of two parts
-// below 2^-969 in magnitude may lose its error term to underflow: `tiny` is then set, and the
+// length, or -1 where a difference is 2^496 or more (or not finite). A product of two non-zero
+// parts below 2^-969 in magnitude (0 included) may lose its error term, or itself, to
+// underflow: `tiny` is then set, and the
 // expansion's sum is exact only to 2^-960 (sixteen such terms, each off by less than 2^-965),
 // which matters only for a determinant of that order.
 inline int orient2d_expansion(double ax, double ay, double bx, double by, double cx, double cy, double (&e)[32],
@@ -102,8 +103,11 @@ inline int orient2d_expansion(double ax, double ay, double bx, double by, double
       two_product(u[i], v[j], p, err);
       two_product(w[i], z[j], q, qerr);
       // Dekker's error term is exact only while the product stays normal (above 2^-969 leaves
-      // room for the split's halves).
-      tiny |= (p != 0.0 && std::abs(p) < 0x1p-969) || (q != 0.0 && std::abs(q) < 0x1p-969);
+      // room for the split's halves); a product of two non-zero parts that underflows to 0 is
+      // lost whole (counted since 2026-12-06: two points 1e-150 apart came out exactly on a line
+      // they are not on, fuzz/regressions/fuzz_tri_kernel/found-2026-12-06.txt).
+      tiny |= (std::abs(p) < 0x1p-969 && u[i] != 0.0 && v[j] != 0.0) ||
+              (std::abs(q) < 0x1p-969 && w[i] != 0.0 && z[j] != 0.0);
       n = grow(e, n, err);
       n = grow(e, n, p);
       n = grow(e, n, -qerr);

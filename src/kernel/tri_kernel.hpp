@@ -916,22 +916,30 @@ bool boxes_disjoint(const Triangle& A, const Triangle& B) {
 // are separated by the line of an edge of one of them), 0 if none does (their interiors
 // meet: the exact area is positive), 2 if an exact sign could not be had.
 int only_touch(const Triangle& A, const Triangle& B) {
+  // Both triangles' lines are looked at whatever the first finds, so that the answer does not
+  // depend on the argument order: 1 if some line has the other triangle certainly on its
+  // outer side, else 2 if some sign was uncertain.
+  bool uncertain = false;
   for (const auto& [T, O] : {std::pair{&A, &B}, std::pair{&B, &A}}) {
     const Triangle& t = *T;
     const int o = detail::orient2d_sign(t[0].x, t[0].y, t[1].x, t[1].y, t[2].x, t[2].y);
-    if (o == 2 || o == 0) return 2;
+    if (o == 2 || o == 0) {
+      uncertain = true;
+      continue;
+    }
     for (int k = 0; k < 3; ++k) {
       const Vec2 a = t[kEdgeFrom[k]], b = t[kEdgeTo[k]];
-      bool outside = true;
+      bool outside = true, certain = true;
       for (const Vec2& p : *O) {
         const int side = detail::orient2d_sign(a.x, a.y, b.x, b.y, p.x, p.y);
-        if (side == 2) return 2;
+        certain &= side != 2;
         outside &= side * o <= 0;
       }
-      if (outside) return 1;
+      if (outside && certain) return 1;
+      uncertain |= !certain;
     }
   }
-  return 0;
+  return uncertain ? 2 : 0;
 }
 
 // The double kernel with what certifies its result, as in 3D: a quick exit for disjoint
