@@ -531,7 +531,9 @@ struct BarycentricMap {
   //
   // perm[k]: the permanent of coordinate k; kErrBound perm[k] |inv| bounds its error (the
   // common rounding of inv scales all coordinates alike and changes no sign the kernel takes).
-  void operator()(Vec2 u, double (&out)[3], double (&perm)[3], bool accurate_near_zero) const {
+  // Inlined: make_frame calls it in two places (the second rare), and out of line it cost the
+  // kernel 7 % on triangles that share a vertex.
+  [[gnu::always_inline]] void operator()(Vec2 u, double (&out)[3], double (&perm)[3], bool accurate_near_zero) const {
     for (int k = 0; k < 3; ++k) {
       const Vec2 w = u - anchor[k];
       const double l = dir[k].x * w.y, rr = dir[k].y * w.x;
@@ -605,9 +607,11 @@ void corner_coordinates(const Frame& fr, KernelResult& r, TriIntersectionStats* 
   // is measured there, a bound above 2^-47 (Y a needle, X's vertices far from Y's anchors) is
   // not accurate enough relative to Y, and what is built from those coordinates is made again
   // from the input (orient2d_accurate).
+  // (fr.C_error, the bound over all nine, decides for the usual case at once.)
+  const bool any_coarse = !sub_frame && !(fr.C_error <= 0x1p-47);
   const auto coarse = [&](int i) {
     const double perm = std::max(std::max(fr.C_perm[i][0], fr.C_perm[i][1]), fr.C_perm[i][2]);
-    return !sub_frame && !(BarycentricMap::kErrBound * perm * std::abs(fr.inv_det2) <= 0x1p-47);
+    return any_coarse && !(BarycentricMap::kErrBound * perm * std::abs(fr.inv_det2) <= 0x1p-47);
   };
   for (int c = 0; c < r.num_corners; ++c) {
     RawCorner& k = r.corners[c];
