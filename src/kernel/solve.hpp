@@ -178,12 +178,13 @@ Outcome solve_with(const MakeFrame& make_frame, Frame& fr, KernelResult& res, In
   if (stats && res.contradiction) ++stats->inconsistencies;
   if (fr.flat_to_rounding) [[unlikely]] return Outcome::exact;  // the kernel's polytope kept in res
   // Accuracy relative to the smaller tetrahedron: X certainly inside Y is exact (X's own
-  // volume), and so is an empty result with X strictly beyond a plane of Y; otherwise the estimate decides
-  // whether the double result stands. An empty result whose refined volume exceeds 2^-44 of
-  // the smaller tetrahedron (X across a face of a much bigger Y, within its rounding) has no
-  // corners to show for it: exact then; below that, empty is within the accuracy promised with
-  // room for the refinement's own error. (The threshold was 1e-12 until 2026-12-06, which left
-  // no room: a needle 1e3 times smaller across a vertex of Y came out empty, 7.1e-13 of it off.)
+  // volume), and so is an empty result with X strictly beyond a plane of Y; otherwise the
+  // estimate decides whether the double result stands. An empty result whose refined volume
+  // exceeds 2^-44 of the smaller tetrahedron (X across a face of a much bigger Y, within its
+  // rounding) has no corners to show for it: exact then; below that, empty is within the
+  // accuracy promised with room for the refinement's own error. (The threshold was 1e-12 until
+  // 2026-12-06, which left no room: a needle 1e3 times smaller across a vertex of Y came out
+  // empty, 7.1e-13 of it off.)
   if (res.num_corners == 0) {
     if (res.certainly_empty || accuracy_certified(fr)) return Outcome::empty;
     if (stats) ++stats->refined;
@@ -198,16 +199,15 @@ Outcome solve_with(const MakeFrame& make_frame, Frame& fr, KernelResult& res, In
     // that it may cross by up to the map's rounding, far more than 1e-12 of a much smaller X
     // (a small X just across a face of a big Y): then the a priori estimate decides, and what
     // it does not certify is refined.
-    if (has_zero_coordinate(fr.C) && !accuracy_certified(fr)) [[unlikely]] {
-      if (stats) ++stats->refined;
-      if (!refine<kMoments>(fr, res)) return Outcome::exact;
-    }
-    // X's own volume |det6| / 6: its rounding is below 2^-49 of det6's permanent, at most
-    // (2/3) s^(3/2) (the product of three edges whose squares sum to at most s is at most
+    // Otherwise X's own volume |det6| / 6: its rounding is below 2^-49 of det6's permanent, at
+    // most (2/3) s^(3/2) (the product of three edges whose squares sum to at most s is at most
     // (s/3)^(3/2), and the permanent has 2 sqrt(3) such products at most), so below 1e-13 of
     // det6 where the quality |det6| / s^(3/2) is at least 2^-49 (2/3) / 1e-13 = 1.2e-3; a
     // thinner X gets its det6 in double-double.
-    else if (!(std::abs(fr.det6_sub) >= kInsideQuality * fr.s_sub * std::sqrt(fr.s_sub))) [[unlikely]] {
+    if (has_zero_coordinate(fr.C) && !accuracy_certified(fr)) [[unlikely]] {
+      if (stats) ++stats->refined;
+      if (!refine<kMoments>(fr, res)) return Outcome::exact;
+    } else if (!(std::abs(fr.det6_sub) >= kInsideQuality * fr.s_sub * std::sqrt(fr.s_sub))) [[unlikely]] {
       if (stats) ++stats->refined;
       if (!refine_inside(fr, res)) return Outcome::exact;
     }
