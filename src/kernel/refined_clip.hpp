@@ -407,7 +407,9 @@ constexpr double kFractionError = 64.0 * 0x1p-53;  // beyond_fraction's own roun
 // The largest bound the near-cover formula is accepted with, relative to S's volume.
 constexpr double kNearCoverAccepted = 0x1p-44;
 
-inline void cover_plane(const double (&d)[4], const double (&e)[4], CoverPlane& c) {
+// kFirst: W_j's first moment too (c.first; else left alone: only the moments read it).
+template <bool kFirst>
+void cover_plane(const double (&d)[4], const double (&e)[4], CoverPlane& c) {
   double up[4], down[4];
   for (int k = 0; k < 4; ++k) {
     const double u = d[k] + e[k], l = d[k] - e[k];
@@ -417,7 +419,7 @@ inline void cover_plane(const double (&d)[4], const double (&e)[4], CoverPlane& 
   double unused[4];
   const double f_down = beyond_fraction<false>(down, unused);
   c.cuts = f_down != 0.0;  // 0 only where every d - e >= 0: nothing cut off exactly either
-  c.fraction = beyond_fraction<true>(d, c.first);
+  c.fraction = beyond_fraction<kFirst>(d, c.first);
   if (!c.cuts) {
     c.deviation = c.upper = 0.0;
     c.tau = 0.0;
@@ -440,16 +442,18 @@ inline void cover_plane(const double (&d)[4], const double (&e)[4], CoverPlane& 
 // along one face of S. (Only a filter: near_cover's bound decides.)
 inline bool thin_cut(const CoverPlane& c) { return !c.cuts || c.tau <= 0x1p-10; }
 
-// S n B's fraction of S from the four planes (near-cover, above), its first moment
+// S n B's fraction of S from the four planes (near-cover, above), with kFirst its first moment
 // (barycentric), and the bound on the fraction's error.
-inline double near_cover(const CoverPlane (&c)[4], double& bound, double (&first)[4]) {
+template <bool kFirst>
+double near_cover(const CoverPlane (&c)[4], double& bound, double (&first)[4]) {
   double cut = 0.0;
   bound = 0.0;
   for (int k = 0; k < 4; ++k) first[k] = 0.25;
   for (int j = 0; j < 4; ++j) {
     cut += c[j].fraction;
     bound += c[j].deviation;
-    for (int k = 0; k < 4; ++k) first[k] -= c[j].first[k];
+    if constexpr (kFirst)
+      for (int k = 0; k < 4; ++k) first[k] -= c[j].first[k];
     for (int i = 0; i < j; ++i) {
       if (!c[i].cuts || !c[j].cuts) continue;
       double overlap = std::min(c[i].upper, c[j].upper);
@@ -475,7 +479,6 @@ inline bool refined_det6(const Tet& t, double& det6) {
   return refined_det6(t, det6, error);
 }
 
-// kMoments: the first moments too (else out.first is 0; the volume is the same number).
 // What the near-cover formula found (for the tests: kernel_trace.hpp's near_cover_trace).
 struct NearCoverReport {
   bool tried = false;    // all four planes thin: the formula was evaluated
@@ -483,6 +486,7 @@ struct NearCoverReport {
   double bound = 0.0;    // its error bound relative to S's exact volume
 };
 
+// kMoments: the first moments too (else out.first is 0; the volume is the same number).
 // clip_only: the clipping whatever the planes (for the tests).
 template <bool kMoments = true>
 bool refined_moments(const Tet& S, const Tet& B, double det6_B, Moments& out, NearCoverReport* report = nullptr,
@@ -513,7 +517,7 @@ bool refined_moments(const Tet& S, const Tet& B, double det6_B, Moments& out, Ne
     if (((j % 2 == 0) ? -det6_B : det6_B) < 0.0)
       for (double& x : planes[j]) x = -x;
     if (covering) {
-      cover_plane(planes[j], error, cover[j]);
+      cover_plane<kMoments>(planes[j], error, cover[j]);
       if (thin_cut(cover[j])) continue;
       covering = false;
     }
@@ -530,7 +534,7 @@ bool refined_moments(const Tet& S, const Tet& B, double det6_B, Moments& out, Ne
   const double scale = std::abs(det6_S);
   if (covering) {
     double bound, first_bary[4];
-    const double fraction = near_cover(cover, bound, first_bary);
+    const double fraction = near_cover<kMoments>(cover, bound, first_bary);
     // In units of S's exact volume: the fraction's error, S's det6's error times the fraction,
     // and the rounding of the product below (three roundings and 1/6's).
     const double total = (bound * scale + fraction * det6_error) / (scale - det6_error) + 5.0 * 0x1p-53;
