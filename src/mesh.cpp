@@ -105,7 +105,8 @@ void finalize_mesh(Mesh& m, const std::string& name) {
   // into 64 bits (node indices are non-negative int32) and its index, so that a bucket is read
   // from contiguous memory; within a bucket (up to 150 facets in the peers' meshes, half of all
   // facets in buckets of more than 32), equal facets are matched through a small open-addressing
-  // table on the packed nodes, in the fill's order (facet ascending). The first two occurrences
+  // table on the packed nodes, in the fill's order (facet ascending; a bucket of more than 256,
+  // by sorting it). The first two occurrences
   // of a facet are linked, a third is an error (reported at the cell of the third, in cell order
   // within its bucket). The keys are formed twice (to count, then to fill) rather than stored:
   // three compare-exchanges cost less than 12 B a facet written and read again. (Sorting each
@@ -157,8 +158,14 @@ void finalize_mesh(Mesh& m, const std::string& name) {
   // The table: a slot holds the bucket it was written for (node + 1: a stale slot reads as
   // empty, so the table is never cleared), the position in the bucket of the first occurrence
   // of its facet, and whether the second has come. At least twice the largest bucket's slots.
+  // A bucket of more than kHashedBucket facets (a node in very many cells, a fan) is sorted
+  // instead, as Entry pairs by the packed nodes and then by facet (the fill's order within a
+  // facet): linear probing among keys that an input could choose to collide costs up to the
+  // square of the bucket's size, a sort n log n.
+  constexpr std::size_t kHashedBucket = 256;
   std::size_t largest = 0;
-  for (std::size_t node = 0; node < m.nodes.size(); ++node) largest = std::max(largest, start[node + 1] - start[node]);
+  for (std::size_t node = 0; node < m.nodes.size(); ++node)
+    largest = std::max(largest, std::min(start[node + 1] - start[node], kHashedBucket));
   unsigned bits = 3;
   while ((std::size_t{1} << bits) < 2 * largest) ++bits;
   struct Slot {
@@ -168,9 +175,30 @@ void finalize_mesh(Mesh& m, const std::string& name) {
   };
   std::vector<Slot> table(std::size_t{1} << bits);
   const std::size_t mask = table.size() - 1;
+  const auto link = [&](const Entry& a, const Entry& b) {
+    const std::size_t c0 = a.facet / nf, k0 = a.facet % nf, c1 = b.facet / nf, k1 = b.facet % nf;
+    m.neighbors[c1][k1] = static_cast<std::int32_t>(c0);
+    m.neighbors[c0][k0] = static_cast<std::int32_t>(c1);
+  };
+  const auto shared_by_three = [&](const Entry& third) {
+    fail(name, "cell " + std::to_string(third.facet / nf) + ": " + D::facet_word + " shared by more than two cells");
+  };
   for (std::size_t node = 0; node < m.nodes.size(); ++node) {
-    const Entry* const first = bucket.data() + start[node];
+    Entry* const first = bucket.data() + start[node];
     const std::size_t count = start[node + 1] - start[node];
+    if (count > kHashedBucket) {
+      std::sort(first, first + count, [](const Entry& a, const Entry& b) {
+        return a.others < b.others || (a.others == b.others && a.facet < b.facet);
+      });
+      for (std::size_t i = 0; i < count;) {
+        std::size_t run = i + 1;
+        while (run < count && first[run].others == first[i].others) ++run;
+        if (run - i > 2) shared_by_three(first[i + 2]);
+        if (run - i == 2) link(first[i], first[i + 1]);
+        i = run;
+      }
+      continue;
+    }
     for (std::size_t i = 0; i < count; ++i) {
       const Entry& e = first[i];
       // Fibonacci hashing: the top bits of the packed nodes times 2^64 / golden ratio.
@@ -183,12 +211,9 @@ void finalize_mesh(Mesh& m, const std::string& name) {
         }
         const Entry& seen = first[slot.position];
         if (seen.others != e.others) continue;
-        if (slot.paired)
-          fail(name, "cell " + std::to_string(e.facet / nf) + ": " + D::facet_word + " shared by more than two cells");
+        if (slot.paired) shared_by_three(e);
         slot.paired = true;
-        const std::size_t c0 = seen.facet / nf, k0 = seen.facet % nf, c1 = e.facet / nf, k1 = e.facet % nf;
-        m.neighbors[c1][k1] = static_cast<std::int32_t>(c0);
-        m.neighbors[c0][k0] = static_cast<std::int32_t>(c1);
+        link(seen, e);
         break;
       }
     }

@@ -28,7 +28,8 @@ TetMesh two_tets() {
 }
 
 // The message finalize throws, or "" if it does not throw.
-std::string finalize_error(TetMesh m, const std::string& name) {
+template <class Mesh>
+std::string finalize_error(Mesh m, const std::string& name) {
   try {
     tetia::finalize(m, name);
   } catch (const std::runtime_error& e) {
@@ -129,35 +130,40 @@ void expect_brute_force_adjacency(const Mesh& m) {
     }
 }
 
-// Node 0 in every cell (a fan: 3 x 150 faces in its bucket in 3D, 2 x 150 edges in 2D, beyond
-// the insertion sort's 32), the other nodes numbered in a scrambled order; then one cell given
-// twice, whose facets the fan's bucket must find in three cells.
+// Node 0 in every cell (a fan: 3 n faces in its bucket in 3D, 2 n edges in 2D), the other
+// nodes numbered in a scrambled order; then one cell given twice, whose facets the fan's bucket
+// must find in three cells. n = 50: the bucket is matched through finalize's hash table (up to
+// 256 facets); n = 150: it is sorted.
 TEST(Finalize, AdjacencyOfAFanAroundOneNode) {
-  constexpr int n = 150;
-  const auto scrambled = [](int i) { return 1 + (i * 97) % n; };  // 97 is prime to 150: a permutation of 1..n
-  TetMesh t;
-  t.nodes.resize(n + 2);
-  t.nodes[0] = {0, 0, 0};
-  t.nodes[n + 1] = {0, 0, 1};  // the apex
-  for (int i = 0; i < n; ++i) {
-    const double a = 2 * M_PI * i / n;
-    t.nodes[static_cast<std::size_t>(scrambled(i))] = {std::cos(a), std::sin(a), 0.5};
+  for (const int n : {50, 150}) {
+    SCOPED_TRACE("n = " + std::to_string(n));
+    const auto scrambled = [n](int i) { return 1 + (i * 97) % n; };  // 97 is prime to 50 and 150: a permutation of 1..n
+    TetMesh t;
+    t.nodes.resize(static_cast<std::size_t>(n) + 2);
+    t.nodes[0] = {0, 0, 0};
+    t.nodes[static_cast<std::size_t>(n) + 1] = {0, 0, 1};  // the apex
+    for (int i = 0; i < n; ++i) {
+      const double a = 2 * M_PI * i / n;
+      t.nodes[static_cast<std::size_t>(scrambled(i))] = {std::cos(a), std::sin(a), 0.5};
+    }
+    for (int i = 0; i < n; ++i) t.cells.push_back({0, scrambled(i), scrambled((i + 1) % n), n + 1});
+    tetia::finalize(t, "fan");
+    expect_brute_force_adjacency(t);
+    tetia::TriMesh f;
+    f.nodes.resize(static_cast<std::size_t>(n) + 1);
+    f.nodes[0] = {0, 0};
+    for (int i = 0; i < n; ++i) {
+      const double a = 2 * M_PI * i / n;
+      f.nodes[static_cast<std::size_t>(scrambled(i))] = {std::cos(a), std::sin(a)};
+    }
+    for (int i = 0; i < n; ++i) f.cells.push_back({0, scrambled(i), scrambled((i + 1) % n)});
+    tetia::finalize(f, "fan");
+    expect_brute_force_adjacency(f);
+    t.cells.push_back(t.cells[7]);
+    EXPECT_EQ(finalize_error(t, "fan"), "tetia: fan: cell " + std::to_string(n) + ": a face shared by more than two cells");
+    f.cells.push_back(f.cells[7]);
+    EXPECT_EQ(finalize_error(f, "fan"), "tetia: fan: cell " + std::to_string(n) + ": an edge shared by more than two cells");
   }
-  for (int i = 0; i < n; ++i) t.cells.push_back({0, scrambled(i), scrambled((i + 1) % n), n + 1});
-  tetia::finalize(t, "fan");
-  expect_brute_force_adjacency(t);
-  tetia::TriMesh f;
-  f.nodes.resize(n + 1);
-  f.nodes[0] = {0, 0};
-  for (int i = 0; i < n; ++i) {
-    const double a = 2 * M_PI * i / n;
-    f.nodes[static_cast<std::size_t>(scrambled(i))] = {std::cos(a), std::sin(a)};
-  }
-  for (int i = 0; i < n; ++i) f.cells.push_back({0, scrambled(i), scrambled((i + 1) % n)});
-  tetia::finalize(f, "fan");
-  expect_brute_force_adjacency(f);
-  t.cells.push_back(t.cells[7]);
-  EXPECT_EQ(finalize_error(t, "fan"), "tetia: fan: cell " + std::to_string(n) + ": a face shared by more than two cells");
 }
 
 TEST(KuhnMesh, CountsVolumeAndAdjacency) {
