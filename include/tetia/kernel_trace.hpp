@@ -62,6 +62,10 @@ struct NearCoverTrace {
   Moments moments;              ///< the refinement's result
   bool clip_certified = false;  ///< the clipping's result stands
   Moments clipped;              ///< the clipping's result
+  /// The clipping's derived error bound relative to S's exact volume (src/kernel/refined_clip.hpp,
+  /// clip_bound; accepted where at most 2^-42), -1 where it did not clip to a positive volume.
+  double clip_bound = -1.0;
+  bool clip_separated = false;  ///< an empty clipping certified by a separating plane
 };
 NearCoverTrace near_cover_trace(const Tet& S, const Tet& B);
 

@@ -21,9 +21,11 @@
 //    where needed (IntersectionStats::refined; beyond a size ratio of about 2^50, exactly).
 //    The estimate's constant is calibrated against GMP on the test families and under a
 //    directed search for its worst case, not proven (docs/architecture.md, "Accuracy relative
-//    to the smaller tetrahedron"); where the refinement finds the smaller tetrahedron nearly
-//    inside the other (each plane cutting at most a thin part off it), its result carries a
-//    derived bound instead (the near-cover formula).
+//    to the smaller tetrahedron"). What the refinement returns carries a derived bound: the
+//    near-cover formula's where the smaller tetrahedron is nearly inside the other, the
+//    clipping's (from the computed polytope: its faces' residuals, its triangles' certain
+//    orientations, one ray crossing it once) otherwise, and an empty result a separating plane
+//    or one plane keeping at most 2^-42 of the smaller; what none certifies is computed exactly.
 //  - The result is consistent: its corners and facets form a closed polytope whose facets are
 //    built from labels alone, so a real intersection cannot vanish through rounding
 //    (Theorem 6 and Corollary 2 of the paper).
@@ -72,8 +74,9 @@ struct IntersectionStats {
                                         ///< redone with the other reference (see solve_with)
   std::int64_t rescaled = 0;            ///< inputs scaled by a power of two (extreme sizes)
   std::int64_t refined = 0;             ///< results whose error estimate exceeded 1e-12 of the
-                                        ///< smaller tetrahedron, computed again in its own frame
-                                        ///< with double-double orientations (see solve_with)
+                                        ///< smaller tetrahedron: certified empty by a separating
+                                        ///< plane, or computed again in its own frame with
+                                        ///< double-double orientations (see solve_with)
   std::int64_t exact_fallbacks = 0;     ///< results computed exactly (the last resort)
   std::int64_t calls = 0;
 

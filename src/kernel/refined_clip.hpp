@@ -14,28 +14,34 @@
 // linear function sum_k lambda_k D[j][k] of the barycentric coordinates lambda of S, so clipping
 // the unit simplex by the four half-spaces D >= 0 gives S n B, up to the error of the D's
 // (certified below 2^-47) and the rounding of the clipping itself, whose coordinates lie in
-// [0, 1]: errors of a few ulps of S, with no ratio in them. The volume is the clipped volume
+// [0, 1]: no ratio in them. What the clipping computes is then bounded from the computed
+// polytope itself (clip_bound, derived below, not calibrated). The volume is the clipped volume
 // times |det6(S)|, that determinant certified alike (a sliver's det6 in doubles is off by eps
 // over its quality).
 //
 // Contract: refined_det6(t, det6) computes det6(t) = det[t1 - t0, t2 - t0, t3 - t0] to 2^-47 of
 // itself, or returns false. refined_moments(S, B, det6_B, out) fills the volume and first
-// moments of S n B and returns true when det6(S) and every D are certified to 2^-47 of the
-// largest of their plane (error bounds below: doubles where they suffice, double-double where
-// not), which holds for size ratios up to about 2^50; false otherwise (the caller takes the
-// exact last resort). Where every plane of B cuts at most a thin part off S, the near-cover
-// formula (below) decides first, without clipping, when its derived bound is at most 2^-44 of
-// S's volume. det6_B, B's det6 in doubles, gives only the sign of B's orientation (B is
-// not flat to rounding: the caller checked its quality). Sizes within the kernel's range
-// (frame.hpp's FrameStatus): no overflow. Allocation-free; not the hot path (about a
-// microsecond).
+// moments of S n B and returns true only where the volume's error is certified: by the
+// near-cover formula's derived bound (at most 2^-44 of S's volume; where every plane of B cuts
+// at most a thin part off S it decides first, without clipping), by the clipping's derived
+// bound (clip_bound or thin_bound, at most 2^-42 of S), or, for an empty result, by one plane of
+// B keeping at most 2^-42 of S or by a plane separating S and B (separation.hpp). Each needs
+// det6(S) and every D certified to 2^-47 of the largest of their plane (doubles where they
+// suffice, double-double where not), which holds for size ratios up to about 2^50. False
+// otherwise: the caller takes the exact last resort. The first moments carry no bound of their
+// own. det6_B, B's det6 in doubles, gives only the sign of B's orientation (B is not flat to
+// rounding: the caller checked its quality). Sizes within the kernel's range (frame.hpp's
+// FrameStatus): an overflow is never certified. Allocation-free; not the hot path (one to two
+// microseconds).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
 #include "exact_sign.hpp"  // two_sum, two_diff, two_product
 #include "fan.hpp"
+#include "separation.hpp"
 #include "tetia/geometry.hpp"
 #include "tetia/polyhedron.hpp"
 
@@ -174,6 +180,10 @@ struct ClipPoly {
   double lam[kMax][4];
   int nbr[kMax][3];
   bool dead[kMax];
+  // The planes a vertex lies on by construction: bit k (0..3) the face lambda_k = 0 of S, bit
+  // 4 + j plane j of B (a new vertex: those its edge's two ends share, and the plane that made
+  // it). A face lies on the planes all its vertices share (clip_bound).
+  unsigned char planes[kMax];
   int n = 0;
   bool failed = false;  // the structure broke (never for a simple polytope): not certified
 };
@@ -187,13 +197,15 @@ inline void unit_simplex(ClipPoly& P) {
     for (int k = 0; k < 4; ++k) P.lam[v][k] = v == k ? 1.0 : 0.0;
     for (int i = 0; i < 3; ++i) P.nbr[v][i] = kNbr[v][i];
     P.dead[v] = false;
+    P.planes[v] = static_cast<unsigned char>(0xFu & ~(1u << v));
   }
 }
 
-// Keeps the part of P where sum_k lambda_k d[k] >= 0. Returns false if nothing is left with a
-// positive value (the polytope is empty or flat). A vertex with value 0 is kept; new vertices
-// are made on the edges from a kept vertex to a removed one, then linked around the new face.
-inline bool clip(ClipPoly& P, const double (&d)[4]) {
+// Keeps the part of P where sum_k lambda_k d[k] >= 0 (plane `plane` of B, 0..3). Returns false
+// if nothing is left with a positive value (the polytope is empty or flat). A vertex with value
+// 0 is kept; new vertices are made on the edges from a kept vertex to a removed one, then linked
+// around the new face.
+inline bool clip(ClipPoly& P, const double (&d)[4], int plane) {
   double sd[ClipPoly::kMax];
   bool any_out = false, any_pos = false;
   for (int v = 0; v < P.n; ++v) {
@@ -222,6 +234,7 @@ inline bool clip(ClipPoly& P, const double (&d)[4]) {
       P.nbr[m][0] = v;
       P.nbr[m][1] = P.nbr[m][2] = -1;
       P.dead[m] = false;
+      P.planes[m] = static_cast<unsigned char>((P.planes[v] & P.planes[w]) | 1u << (4 + plane));
       P.nbr[v][i] = m;
     }
   }
@@ -246,50 +259,399 @@ inline bool clip(ClipPoly& P, const double (&d)[4]) {
   return true;
 }
 
-// Volume and first moments (in lambda1..lambda3, the unit simplex having volume 1/6) by fans
-// over the faces (fan.hpp), each joined to the mean of the vertices and taken in absolute value
-// (a convex polytope: every such pyramid is non-negative), as the kernel's fan_moments does.
-// kMoments: the first moments too (the volume is the same number either way).
-template <bool kMoments>
-void clip_moments(const ClipPoly& P, double& vol, double (&first)[3]) {
-  vol = 0.0;
-  first[0] = first[1] = first[2] = 0.0;
+// The faces of the clipped polytope, each a cycle of vertices from its first, walked along the
+// neighbours' rotational order (every directed edge once: each face once, with the same
+// orientation), in the order of their first directed edge (vertex, then neighbour slot).
+struct ClipFaces {
+  static constexpr int kMaxFaces = ClipPoly::kMax;
+  int count = 0;
+  int start[kMaxFaces + 1];
+  int vertex[3 * ClipPoly::kMax];  // each vertex is on three faces
+};
+
+// False where the walk does not close (a broken structure; never for a simple polytope).
+inline bool walk_faces(const ClipPoly& P, ClipFaces& F) {
+  std::uint64_t used[3] = {0, 0, 0};  // bit v of used[i]: the directed edge v -> nbr[v][i] walked
+  F.count = 0;
+  F.start[0] = 0;
+  int total = 0;
+  for (int v0 = 0; v0 < P.n; ++v0)
+    for (int i0 = 0; i0 < 3; ++i0) {
+      if (P.dead[v0] || (used[i0] >> v0 & 1u)) continue;
+      if (F.count == ClipFaces::kMaxFaces) return false;
+      int a = v0, ia = i0;
+      do {
+        if (total == 3 * ClipPoly::kMax) return false;
+        used[ia] |= std::uint64_t{1} << a;
+        F.vertex[total++] = a;
+        const int b = P.nbr[a][ia];
+        int j = 0;
+        while (j < 3 && P.nbr[b][j] != a) ++j;
+        if (j == 3) return false;
+        a = b;
+        ia = (j + 1) % 3;
+      } while (!(a == v0 && ia == i0));
+      F.start[++F.count] = total;
+    }
+  return true;
+}
+
+// The mean of the living vertices (lambda1..lambda3), the fans' apex; their number.
+inline int vertex_mean(const ClipPoly& P, double (&o)[3]) {
   int alive = 0;
-  double o[3] = {0.0, 0.0, 0.0};
+  o[0] = o[1] = o[2] = 0.0;
   for (int v = 0; v < P.n; ++v) {
     if (P.dead[v]) continue;
     ++alive;
     for (int c = 0; c < 3; ++c) o[c] += P.lam[v][c + 1];
   }
-  if (alive < 4) return;
-  for (double& x : o) x /= alive;
-  std::uint64_t used[3] = {0, 0, 0};  // bit v of used[i]: the directed edge v -> nbr[v][i] walked
-  double vol6 = 0.0, m[3] = {0.0, 0.0, 0.0};
-  for (int v0 = 0; v0 < P.n; ++v0)
-    for (int i0 = 0; i0 < 3; ++i0) {
-      if (P.dead[v0] || (used[i0] >> v0 & 1u)) continue;
-      // The face through the directed edge v0 -> nbr[v0][i0].
-      int face[ClipPoly::kMax];
-      int len = 0;
-      int a = v0, ia = i0;
-      do {
-        used[ia] |= std::uint64_t{1} << a;
-        face[len++] = a;
-        const int b = P.nbr[a][ia];
-        int j = 0;
-        while (P.nbr[b][j] != a) ++j;
-        a = b;
-        ia = (j + 1) % 3;
-      } while (!(a == v0 && ia == i0) && len < ClipPoly::kMax);
-      double fv = 0.0, fm[3] = {0.0, 0.0, 0.0};
-      fan_pyramids<kMoments>(o, len, [&](int k) { return P.lam[face[k]]; }, fv, fm);
-      const double s = fv < 0.0 ? -1.0 : 1.0;
-      vol6 += s * fv;
-      if constexpr (kMoments)
-        for (int c = 0; c < 3; ++c) m[c] += s * fm[c];
-    }
+  if (alive > 0)
+    for (double& x : o) x /= alive;
+  return alive;
+}
+
+// Volume and first moments (in lambda1..lambda3, the unit simplex having volume 1/6) by fans
+// over the faces (fan.hpp), each joined to the mean of the vertices and taken in absolute value
+// (a convex polytope: every such pyramid is non-negative), as the kernel's fan_moments does.
+// kMoments: the first moments too (the volume is the same number either way). vol6: six times
+// the volume, before the division (clip_bound's evaluation bound is on it).
+template <bool kMoments>
+void clip_moments(const ClipPoly& P, const ClipFaces& F, double& vol, double (&first)[3], double& vol6) {
+  vol = vol6 = 0.0;
+  first[0] = first[1] = first[2] = 0.0;
+  double o[3];
+  if (vertex_mean(P, o) < 4) return;
+  double m[3] = {0.0, 0.0, 0.0};
+  for (int f = 0; f < F.count; ++f) {
+    const int* face = F.vertex + F.start[f];
+    double fv = 0.0, fm[3] = {0.0, 0.0, 0.0};
+    fan_pyramids<kMoments>(o, F.start[f + 1] - F.start[f], [&](int k) { return P.lam[face[k]]; }, fv, fm);
+    const double s = fv < 0.0 ? -1.0 : 1.0;
+    vol6 += s * fv;
+    if constexpr (kMoments)
+      for (int c = 0; c < 3; ++c) m[c] += s * fm[c];
+  }
   vol = vol6 / 6.0;
   for (int c = 0; c < 3; ++c) first[c] = m[c] / 24.0;
+}
+
+// --- the clipping's error bound (derived) -------------------------------------------------
+//
+// What the clipping computes is the volume of a closed triangulated surface Sigma: the fan
+// triangles of its faces, corners the computed vertices x_v (lambda1..lambda3, exact doubles),
+// each face a cycle of the clip's structure. Whatever the rounding that placed them, that volume
+// (in exact arithmetic on the x_v) is the integral of Sigma's winding number w, for any apex o.
+// The exact S n B, in S's frame, is P* = {x in the unit simplex : g*_j(x) >= 0, j = 0..3},
+// g*_j the exact plane functions; the clipping used g_j, the same with the computed D (within E_j
+// at each vertex of S). The bound rests on three facts, each checked on the computed surface:
+//  (1) Every face lies on a plane: its vertices share a plane bit (ClipPoly::planes), and each
+//      vertex lies within a computed distance of each plane of its bits: g_q(x_v) <= in_q for
+//      the vertices on plane q, g_q(x_v) >= -out_q for all of them (q: the four faces of S,
+//      g_q = lambda_q, and B's planes that the surface touches; in_q and out_q include E_q on
+//      the grown simplex). Planes that no face lies on and that every vertex is certainly inside
+//      of (beyond E_q) are left out.
+//  (2) Every fan triangle with three distinct corners is certainly oriented alike seen from o,
+//      the vertices' mean: det(a - o, b - a, c - a) beyond its rounding bound, with the sign of
+//      the first (the walk's orientation: inwards for the neighbour order of unit_simplex; the
+//      argument below is the same with w and the crossings negated).
+//  (3) One ray from o (towards the centroid of the largest triangle) crosses Sigma exactly once,
+//      certainly: that triangle's three edge determinants with the ray are certainly positive,
+//      every other triangle has one certainly negative, or its face lies on a plane q whose
+//      value certainly grows along the ray from g_q(o) > in_q, so the ray never reaches it.
+//      And o is certainly in I = {g_q > in_q for the planes kept}.
+// By (2) every crossing of a ray from o with Sigma counts +1 in the winding number; by (3) and
+// the cycle property (the signed count of crossings is the same, w(o), along every generic
+// ray from o) every generic ray crosses exactly once, so w is 0 or 1 everywhere off Sigma and
+// the computed volume is that of R = {w = 1}. Sigma misses the convex set I (each face is in
+// {g_q <= in_q} of its plane) and I contains o, where w = 1: I lies in R. R lies in the convex
+// hull of the vertices (w = 0 outside), hence in G = {lambda >= -rho} n {g_q >= -out_q}; and
+// I <= P* <= G as well (in_q, out_q include E_q; the planes left out hold the hull, and I
+// in R, strictly inside them). So |vol R - vol P*| <= vol(G \ I), which lies in the union of
+// the slabs {-out_q <= g_q <= in_q} n G. A slab of width h across the simplex grown by rho has
+// at most volume h / |grad| times the largest cross-section, at most the area of the projection,
+// (1/4)(|n|_1 + |n1 + n2 + n3|) <= |n|_1 / 2 for the unit simplex and unit normal n, times
+// (1 + 4 rho)^2: as a fraction of the simplex's 1/6, 3 h |grad|_1 / |grad|_2^2 (1 + 4 rho)^2.
+// To that the rounding of the volume's own evaluation: each fan determinant within kDoubleError
+// of its permanent (o-relative, as fan_pyramids evaluates it), the sums within (T + 2) u of the
+// sum of their magnitudes (T triangles). Evaluations of g_q at a point are bounded the same
+// way (plane_value). The bound is a fraction of S's volume; infinite where a check fails.
+
+// A plane as an affine function of x = (lambda1, lambda2, lambda3): g(x) = c0 + g . x.
+struct ClipPlane {
+  double c0, g[3];
+  double data_error;  // |g* - g| on the unit simplex: the largest of its D's error bounds
+  double slab;        // |g|_1 / |g|_2^2, rounded up (3 times this per unit width: a slab's fraction)
+};
+
+// g(x) within `bound` (see the top of this section: the sum of four terms, each with at most
+// four roundings and g's own rounding from the D's, 5.0001 u of the sum of magnitudes; 7 u
+// leaves room for the rounding of the magnitudes and of value -+ bound; 2^-1070 for underflow).
+inline double plane_value(const ClipPlane& p, const double* x, double& bound) {
+  bound = 0x1.cp-51 * (((std::abs(p.c0) + std::abs(p.g[0] * x[0])) + std::abs(p.g[1] * x[1])) +
+                       std::abs(p.g[2] * x[2])) +
+          0x1p-1070;
+  return ((p.c0 + p.g[0] * x[0]) + p.g[1] * x[1]) + p.g[2] * x[2];
+}
+
+// Plane q = 0..3: S's face lambda_q = 0; q = 4..7: B's plane q - 4 with values d at S's
+// vertices (lambda_0 = 1 - x1 - x2 - x3), each within e.
+inline ClipPlane simplex_plane(int q) {
+  ClipPlane p{q == 0 ? 1.0 : 0.0, {0.0, 0.0, 0.0}, 0.0, 1.0};
+  for (int k = 0; k < 3; ++k) p.g[k] = q == 0 ? -1.0 : (k + 1 == q ? 1.0 : 0.0);
+  return p;
+}
+
+inline ClipPlane b_plane(const double (&d)[4], const double (&e)[4]) {
+  ClipPlane p;
+  p.c0 = d[0];
+  double largest = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    p.g[k] = d[k + 1] - d[0];
+    largest = std::max(largest, std::abs(p.g[k]));
+  }
+  p.data_error = std::max(std::max(e[0], e[1]), std::max(e[2], e[3]));
+  if (!(largest > 0.0 && largest < INFINITY)) {
+    p.slab = INFINITY;
+    return p;
+  }
+  // |g|_1 / |g|_2^2 of g scaled by a power of two near 1 / largest (exact; the D's may be
+  // anywhere in the double range, their squares not), scaled back. g rounded (u of each
+  // entry): |g|_1 and |g|_2^2 within 4 u and 6 u of the exact gradient's.
+  const double scale = std::ldexp(1.0, -std::ilogb(largest));
+  double l1 = 0.0, l2 = 0.0;
+  for (const double x : p.g) {
+    const double y = x * scale;
+    l1 += std::abs(y);
+    l2 += y * y;
+  }
+  p.slab = (l1 / l2) * scale * (1.0 + 0x1p-48);
+  return p;
+}
+
+// det[u, v, w] as fan_pyramids evaluates it, and its permanent.
+inline double det3(const double (&u)[3], const double (&v)[3], const double (&w)[3], double& permanent) {
+  permanent = std::abs(u[0]) * (std::abs(v[1] * w[2]) + std::abs(v[2] * w[1])) +
+              std::abs(u[1]) * (std::abs(v[0] * w[2]) + std::abs(v[2] * w[0])) +
+              std::abs(u[2]) * (std::abs(v[0] * w[1]) + std::abs(v[1] * w[0]));
+  return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
+}
+
+// The sign of det[u, v, w] where certain: +1, -1, or 0 where within its bound.
+inline int certain_sign(const double (&u)[3], const double (&v)[3], const double (&w)[3]) {
+  double permanent;
+  const double det = det3(u, v, w, permanent);
+  const double bound = kDoubleError * permanent + 0x1p-1070;
+  return det > bound ? 1 : (det < -bound ? -1 : 0);
+}
+
+inline bool equal(const double* a, const double* b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
+
+// det[a - o, b - a, c - a] in double-double from the exact differences, rounded to a double:
+// within kDoubleDoubleError of the permanent (as orient_refined).
+inline double det_refined(const double* o, const double* a, const double* b, const double* c) {
+  DD u[3], v[3], w[3];
+  for (int k = 0; k < 3; ++k) {
+    u[k] = dd_diff(a[k], o[k]);
+    v[k] = dd_diff(b[k], a[k]);
+    w[k] = dd_diff(c[k], a[k]);
+  }
+  const DD n0 = dd_add(dd_mul(v[1], w[2]), dd_neg(dd_mul(v[2], w[1])));
+  const DD n1 = dd_add(dd_mul(v[2], w[0]), dd_neg(dd_mul(v[0], w[2])));
+  const DD n2 = dd_add(dd_mul(v[0], w[1]), dd_neg(dd_mul(v[1], w[0])));
+  const DD s = dd_add(dd_add(dd_mul(u[0], n0), dd_mul(u[1], n1)), dd_mul(u[2], n2));
+  return s.hi + s.lo;
+}
+
+// Whether u x r is certainly not 0 (u rounded from a difference: 4 u of each product covers it
+// and the products' and the difference's roundings).
+inline bool off_ray(const double (&u)[3], const double (&r)[3]) {
+  for (int c = 0; c < 3; ++c) {
+    const int i = (c + 1) % 3, j = (c + 2) % 3;
+    const double x = u[i] * r[j] - u[j] * r[i];
+    if (std::abs(x) > 0x1p-51 * (std::abs(u[i] * r[j]) + std::abs(u[j] * r[i])) + 0x1p-1070) return true;
+  }
+  return false;
+}
+
+inline void difference(const double* a, const double* b, double (&out)[3]) {  // a - b
+  for (int c = 0; c < 3; ++c) out[c] = a[c] - b[c];
+}
+
+// The bound (as a fraction of S's volume) on |vol6 / 6 - |P*|| for the clipped polytope P with
+// faces F (walk_faces) and six times its volume vol6 (clip_moments), B's planes d with errors e.
+// Infinite where (1)-(3) above are not all certain. What each vertex needs is computed once:
+// its plane values, x - o, and (x - o) x r for the ray's determinants (det[u_a, u_b, r] =
+// u_a . (u_b x r)).
+inline double clip_bound(const ClipPoly& P, const ClipFaces& F, const double (&d)[4][4], const double (&e)[4][4],
+                         double vol6) {
+  constexpr int kMax = ClipPoly::kMax;
+  int n = 0;
+  for (int v = 0; v < P.n; ++v) n += !P.dead[v];
+  // A simple polytope: 3n / 2 edges, so n / 2 + 2 faces (Euler).
+  if (n < 4 || 2 * F.count != n + 4) return INFINITY;
+  ClipPlane plane[8];
+  for (int q = 0; q < 4; ++q) plane[q] = simplex_plane(q);
+  for (int j = 0; j < 4; ++j) plane[4 + j] = b_plane(d[j], e[j]);
+  const auto x_of = [&](int v) { return &P.lam[v][1]; };
+  // Each plane's lowest value over the vertices (a lower bound) and highest over the vertices
+  // on it (an upper bound); rho, how far outside the simplex a vertex may lie.
+  double low[8], high_on[8];
+  for (int q = 0; q < 8; ++q) low[q] = INFINITY, high_on[q] = -INFINITY;
+  for (int v = 0; v < P.n; ++v) {
+    if (P.dead[v]) continue;
+    const double* x = x_of(v);
+    const unsigned on = P.planes[v];
+    for (int q = 1; q < 4; ++q) {  // lambda_q: exact
+      low[q] = std::min(low[q], x[q - 1]);
+      if (on >> q & 1u) high_on[q] = std::max(high_on[q], x[q - 1]);
+    }
+    for (int q = 0; q < 8; q = q == 0 ? 4 : q + 1) {
+      double b;
+      const double g = plane_value(plane[q], x, b);
+      low[q] = std::min(low[q], g - b);
+      if (on >> q & 1u) high_on[q] = std::max(high_on[q], g + b);
+    }
+  }
+  double rho = 0.0;
+  for (int q = 0; q < 4; ++q) rho = std::max(rho, -low[q]);
+  // B's planes' data error on the simplex grown by rho (the sum of |lambda| there is at most
+  // 1 + 8 rho).
+  const double grown = (1.0 + 8.0 * rho) * (1.0 + 0x1p-50);
+  for (int j = 4; j < 8; ++j) plane[j].data_error *= grown;
+  // (1) every face on a plane; the planes kept: those with a face, and those some vertex is
+  // not certainly inside of.
+  unsigned face_plane[ClipFaces::kMaxFaces];
+  unsigned kept = 0;
+  for (int f = 0; f < F.count; ++f) {
+    unsigned common = 0xFFu;
+    for (int k = F.start[f]; k < F.start[f + 1]; ++k) common &= P.planes[F.vertex[k]];
+    if (common == 0) return INFINITY;
+    face_plane[f] = common;
+    kept |= common;
+  }
+  double in[8], out[8];
+  double o[3];
+  vertex_mean(P, o);
+  for (int q = 0; q < 8; ++q) {
+    if (!(kept >> q & 1u) && low[q] > plane[q].data_error) continue;  // certainly holds the hull
+    kept |= 1u << q;
+    in[q] = std::max(high_on[q], 0.0) + plane[q].data_error;
+    out[q] = std::max(-low[q], 0.0) + plane[q].data_error;
+    double b;
+    if (!(plane_value(plane[q], o, b) - b > in[q])) return INFINITY;  // o certainly in I
+  }
+  // u = x - o per vertex, and its largest |entry|.
+  double u[kMax][3], norm[kMax];
+  for (int v = 0; v < P.n; ++v) {
+    if (P.dead[v]) continue;
+    difference(x_of(v), o, u[v]);
+    norm[v] = std::max(std::max(std::abs(u[v][0]), std::abs(u[v][1])), std::abs(u[v][2]));
+  }
+  // (2) and the evaluation bound (each fan determinant's permanent at most 6 times the product
+  // of its rows' largest entries); the largest triangle for (3).
+  double evaluation = 0.0, largest = 0.0;
+  double orientation = 0.0;  // the walk's: every triangle's determinant must have its sign
+  int triangles = 0, best_face = -1, best_k = 0;
+  for (int f = 0; f < F.count; ++f) {
+    const int* face = F.vertex + F.start[f];
+    const int len = F.start[f + 1] - F.start[f];
+    const double* a = x_of(face[0]);
+    for (int k = 1; k + 1 < len; ++k) {
+      ++triangles;
+      evaluation += norm[face[0]] * norm[face[k]] * norm[face[k + 1]];
+      const double *b = x_of(face[k]), *c = x_of(face[k + 1]);
+      if (equal(a, b) || equal(b, c) || equal(c, a)) continue;  // a segment or a point: no area (see (3))
+      double ba[3], ca[3], permanent;
+      difference(b, a, ba);
+      difference(c, a, ca);
+      double det = det3(u[face[0]], ba, ca, permanent);
+      if (!(std::abs(det) > kDoubleError * permanent + 0x1p-1070)) {
+        // Within the doubles' rounding (a thin triangle, corners near each other): again in
+        // double-double from the exact differences (kDoubleDoubleError, the rounding of hi + lo,
+        // and 2^-1000 for underflow, as certified_orientations).
+        det = det_refined(o, a, b, c);
+        if (!(std::abs(det) > (kDoubleDoubleError * permanent + 0x1p-1000) * (1.0 + 0x1p-50) + 0x1p-53 * std::abs(det)))
+          return INFINITY;
+      }
+      if (orientation == 0.0) orientation = det < 0.0 ? -1.0 : 1.0;
+      det *= orientation;
+      if (!(det > 0.0)) return INFINITY;
+      if (det > largest) largest = det, best_face = f, best_k = k;
+    }
+  }
+  if (best_face < 0) return INFINITY;
+  evaluation *= 6.0;
+  // (3) the ray from o towards the centroid of the largest triangle.
+  double r[3];
+  {
+    const int* face = F.vertex + F.start[best_face];
+    const double *a = x_of(face[0]), *b = x_of(face[best_k]), *c = x_of(face[best_k + 1]);
+    for (int k = 0; k < 3; ++k) r[k] = (a[k] + b[k] + c[k]) * (1.0 / 3.0) - o[k];
+  }
+  // w = u x r per vertex, with its terms' magnitudes (the permanent of det[u_a, u_b, r] is
+  // |u_a| . w_abs_b): made where a face needs them.
+  double w[kMax][3], w_abs[kMax][3];
+  std::uint64_t w_made = 0;
+  const auto make_w = [&](int v) {
+    if (w_made >> v & 1u) return;
+    w_made |= std::uint64_t{1} << v;
+    const double* x = u[v];
+    w[v][0] = x[1] * r[2] - x[2] * r[1];
+    w[v][1] = x[2] * r[0] - x[0] * r[2];
+    w[v][2] = x[0] * r[1] - x[1] * r[0];
+    w_abs[v][0] = std::abs(x[1] * r[2]) + std::abs(x[2] * r[1]);
+    w_abs[v][1] = std::abs(x[2] * r[0]) + std::abs(x[0] * r[2]);
+    w_abs[v][2] = std::abs(x[0] * r[1]) + std::abs(x[1] * r[0]);
+  };
+  const int sign = orientation < 0.0 ? -1 : 1;
+  // The sign of det[u_a, u_b, r] where certain (times the orientation), else 0.
+  const auto edge_sign = [&](int a, int b) {
+    const double det = (u[a][0] * w[b][0] + u[a][1] * w[b][1]) + u[a][2] * w[b][2];
+    const double bound = kDoubleError * ((std::abs(u[a][0]) * w_abs[b][0] + std::abs(u[a][1]) * w_abs[b][1]) +
+                                         std::abs(u[a][2]) * w_abs[b][2]) +
+                         0x1p-1070;
+    return det > bound ? sign : (det < -bound ? -sign : 0);
+  };
+  for (int f = 0; f < F.count; ++f) {
+    if (f != best_face) {
+      // The face's plane grows along the ray: never reached (its points have g_q <= in_q < g_q(o)).
+      bool away = false;
+      for (int q = 0; q < 8 && !away; ++q) {
+        if (!(face_plane[f] >> q & 1u)) continue;
+        const ClipPlane& p = plane[q];
+        const double slope = (p.g[0] * r[0] + p.g[1] * r[1]) + p.g[2] * r[2];
+        const double b = 0x1.cp-51 * ((std::abs(p.g[0] * r[0]) + std::abs(p.g[1] * r[1])) + std::abs(p.g[2] * r[2]));
+        away = slope - b >= 0.0;
+      }
+      if (away) continue;
+    }
+    const int* face = F.vertex + F.start[f];
+    const int len = F.start[f + 1] - F.start[f];
+    for (int k = 0; k < len; ++k) make_w(face[k]);
+    int spoke = edge_sign(face[0], face[1]);  // det[u_0, u_k, r]
+    for (int k = 1; k + 1 < len; ++k) {
+      const int next = edge_sign(face[0], face[k + 1]);
+      const int s0 = spoke, s1 = edge_sign(face[k], face[k + 1]), s2 = -next;
+      spoke = next;
+      const bool crossed = s0 > 0 && s1 > 0 && s2 > 0;
+      if (f == best_face && k == best_k) {
+        if (!crossed) return INFINITY;
+      } else if (!(s0 < 0 || s1 < 0 || s2 < 0)) {
+        // Crossed, or uncertain; a triangle with two equal corners is a segment, which one of
+        // these determinants certainly excludes; one with three equal corners is a point, off the
+        // ray where (point - o) x r is certainly not 0.
+        if (!(equal(x_of(face[0]), x_of(face[k])) && equal(x_of(face[0]), x_of(face[k + 1])) && off_ray(u[face[0]], r)))
+          return INFINITY;
+      }
+    }
+  }
+  double slabs = 0.0;
+  for (int q = 0; q < 8; ++q)
+    if (kept >> q & 1u) slabs += (in[q] + out[q]) * plane[q].slab;
+  const double grow2 = (1.0 + 4.0 * rho) * (1.0 + 4.0 * rho);
+  // The computed determinants' magnitudes sum to at most vol6 plus their errors (all positive).
+  const double sum_rounding = (triangles + 2) * 0x1p-53 * (vol6 + kDoubleError * evaluation);
+  return ((3.0 * slabs * grow2 + kDoubleError * evaluation) + sum_rounding) * (1.0 + 0x1p-48);
 }
 
 // --- S almost inside B: the volume from the parts of S that B's planes cut off ----------------
@@ -479,12 +841,45 @@ inline bool refined_det6(const Tet& t, double& det6) {
   return refined_det6(t, det6, error);
 }
 
-// What the near-cover formula found (for the tests: kernel_trace.hpp's near_cover_trace).
+// A bound for a result that is a thin part of S, where clip_bound's checks need not hold (the
+// vertices' mean outside the inner region, say): both the computed fraction vol6 and the exact
+// one lie in [0, max(vol6, keep)], keep the smallest fraction of S that one plane of B alone
+// keeps at its D's less their errors (beyond_fraction at D + E rounded up, less its own
+// rounding), so their difference is at most that. Infinite where no plane keeps less than
+// 2^-43 (only thin results are meant; S n B lies in each plane's kept part).
+// The smallest fraction of S that one of B's first `count` planes keeps (an upper bound).
+inline double plane_keeps(const double (&d)[4][4], const double (&e)[4][4], int count) {
+  using namespace refined_impl;
+  double keep = INFINITY;
+  for (int j = 0; j < count; ++j) {
+    double up[4], unused[4];
+    bool finite = true;
+    for (int k = 0; k < 4; ++k) {
+      const double u = d[j][k] + e[j][k];
+      up[k] = u + 0x1p-52 * std::abs(u);  // at least d + e, whatever the rounding
+      finite = finite && std::abs(up[k]) < INFINITY;
+    }
+    if (finite) keep = std::min(keep, (1.0 - beyond_fraction<false>(up, unused)) + kFractionError);
+  }
+  return keep;
+}
+
+inline double thin_bound(const double (&d)[4][4], const double (&e)[4][4], double vol6) {
+  const double keep = plane_keeps(d, e, 4);
+  return keep <= 0x1p-43 ? std::max(vol6, keep) : INFINITY;
+}
+
+// What the refinement found (for the tests: kernel_trace.hpp's near_cover_trace).
 struct NearCoverReport {
-  bool tried = false;    // all four planes thin: the formula was evaluated
-  bool decided = false;  // and accepted
-  double bound = 0.0;    // its error bound relative to S's exact volume
+  bool tried = false;        // all four planes thin: the near-cover formula was evaluated
+  bool decided = false;      // and accepted
+  double bound = 0.0;        // its error bound relative to S's exact volume
+  double clip_bound = -1.0;  // the clipping's bound relative to S's exact volume (-1: not clipped to a volume)
+  bool separated = false;    // an empty clipping certified by a separating plane
 };
+
+// The largest bound the clipping is accepted with, relative to S's exact volume.
+constexpr double kClipAccepted = 0x1p-42;
 
 // kMoments: the first moments too (else out.first is 0; the volume is the same number).
 // clip_only: the clipping whatever the planes (for the tests).
@@ -493,39 +888,50 @@ bool refined_moments(const Tet& S, const Tet& B, double det6_B, Moments& out, Ne
                      bool clip_only = false) {
   using namespace refined_impl;
   static constexpr int kFaceVerts[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+  NearCoverReport unused_report;
+  NearCoverReport& rep = report ? *report : unused_report;
+  rep = NearCoverReport{};
   ClipPoly P;
   unit_simplex(P);
   // Each plane's values are kept; the planes that cut only a thin part off S along one of its
   // faces (or nothing) are not clipped yet: if all four are such, the near-cover formula may
   // decide without clipping (above). Otherwise the planes are clipped in their order, as if
   // none had waited.
-  double planes[4][4];
+  double planes[4][4], errors[4][4];
   CoverPlane cover[4];
   bool covering = !clip_only;
-  int clipped = 0;
+  int clipped = 0, computed = 0;
   const auto clip_up_to = [&](int last) {  // false: the polytope is empty (or broke)
     for (; clipped <= last; ++clipped)
-      if (!clip(P, planes[clipped])) return false;
+      if (!clip(P, planes[clipped], clipped)) return false;
     return true;
+  };
+  // An empty clipping stands (out = 0, true) where it is certain: one plane of B keeps at most
+  // kClipAccepted of S (thin_bound's keep: S n B lies in that part; a plane through a shared
+  // vertex or along a shared face, its D's 0 or within rounding of it, keeps that little), or a
+  // plane separates S and B (separation.hpp). Otherwise (a flat or vanishing polytope that
+  // neither certifies) the exact last resort decides.
+  const auto empty = [&]() {
+    if (P.failed) return false;
+    out = Moments{};
+    if (plane_keeps(planes, errors, computed) <= kClipAccepted) return true;
+    rep.separated = certainly_separated(B, S);
+    return rep.separated;
   };
   for (int j = 0; j < 4; ++j) {
     // Face j of B oriented so that B's vertex j is on its positive side:
     // orient3d(f0, f1, f2, b_j) = (-1)^(j+1) det6(B) (barycentric_map.hpp).
     Face f(B[kFaceVerts[j][0]], B[kFaceVerts[j][1]], B[kFaceVerts[j][2]]);
-    double error[4];
-    if (!certified_orientations(f, S.data(), 4, planes[j], error)) return false;
+    if (!certified_orientations(f, S.data(), 4, planes[j], errors[j])) return false;
+    computed = j + 1;
     if (((j % 2 == 0) ? -det6_B : det6_B) < 0.0)
       for (double& x : planes[j]) x = -x;
     if (covering) {
-      cover_plane<kMoments>(planes[j], error, cover[j]);
+      cover_plane<kMoments>(planes[j], errors[j], cover[j]);
       if (thin_cut(cover[j])) continue;
       covering = false;
     }
-    if (!clip_up_to(j)) {
-      if (P.failed) return false;
-      out = Moments{};
-      return true;
-    }
+    if (!clip_up_to(j)) return empty();
   }
   // S's det6 only now: an empty intersection (the usual case among the pairs refined) does not
   // need it.
@@ -539,7 +945,9 @@ bool refined_moments(const Tet& S, const Tet& B, double det6_B, Moments& out, Ne
     // and the rounding of the product below (three roundings and 1/6's).
     const double total = (bound * scale + fraction * det6_error) / (scale - det6_error) + 5.0 * 0x1p-53;
     const bool accepted = fraction >= 0.5 && total <= kNearCoverAccepted;
-    if (report) *report = NearCoverReport{true, accepted, total};
+    rep.tried = true;
+    rep.decided = accepted;
+    rep.bound = total;
     if (accepted) {
       out.volume = fraction * scale * (1.0 / 6.0);
       if constexpr (kMoments) {
@@ -549,19 +957,21 @@ bool refined_moments(const Tet& S, const Tet& B, double det6_B, Moments& out, Ne
       }
       return true;
     }
-    if (!clip_up_to(3)) {
-      if (P.failed) return false;
-      out = Moments{};
-      return true;
-    }
+    if (!clip_up_to(3)) return empty();
   }
-  double vol_ref, first_ref[3];
-  clip_moments<kMoments>(P, vol_ref, first_ref);
+  ClipFaces F;
+  if (!walk_faces(P, F)) return false;
+  double vol_ref, first_ref[3], vol6;
+  clip_moments<kMoments>(P, F, vol_ref, first_ref, vol6);
   out.volume = vol_ref * scale;
-  if (!(out.volume > 0.0)) {
-    out = Moments{};
-    return true;
-  }
+  if (!(out.volume > 0.0)) return empty();
+  // The clipping's bound (clip_bound) in units of S's exact volume, with S's det6's error and
+  // the rounding of vol6 / 6 and of the product with scale, as the near-cover formula's.
+  double bound = clip_bound(P, F, planes, errors, vol6);
+  if (!(bound <= kClipAccepted)) bound = std::min(bound, thin_bound(planes, errors, vol6));
+  const double total = (bound * scale + (vol6 + bound) * det6_error) / (scale - det6_error) + 5.0 * 0x1p-53;
+  rep.clip_bound = total;
+  if (!(total <= kClipAccepted)) return false;
   // Back to the caller's coordinates: lambda_k weighs s_k, the mean lambda of the polytope is
   // first_ref / vol_ref, so the first moment is volume * s_0 + scale * sum_k first_ref_k (s_k - s_0).
   if constexpr (!kMoments) return true;

@@ -188,6 +188,11 @@ Outcome solve_with(const MakeFrame& make_frame, Frame& fr, KernelResult& res, In
   if (res.num_corners == 0) {
     if (res.certainly_empty || accuracy_certified(fr)) return Outcome::empty;
     if (stats) ++stats->refined;
+    // A plane that certainly separates them (separation.hpp): exactly empty, without the
+    // refinement. Y's faces are not tried: the column test above is theirs (X beyond one of
+    // them, every coordinate certain), and what it left has a vertex of X on the plane or
+    // within its rounding; X's faces, then the edge pairs.
+    if (certainly_separated(*fr.sub, *fr.ref, false)) return Outcome::empty;
     const double smaller = std::min(std::abs(fr.det6), std::abs(fr.det6_sub)) * (1.0 / 6.0);
     if (!refine<false>(fr, res) || !(res.refined_moments.volume <= 0x1p-44 * smaller)) return Outcome::exact;
     res.set_empty();

@@ -212,7 +212,10 @@ NearCoverTrace near_cover_trace(const Tet& S, const Tet& B) {
   t.tried = report.tried;
   t.decided = report.decided;
   t.bound = report.bound;
-  t.clip_certified = refined_moments<true>(S, B, det6_B, t.clipped, nullptr, true);
+  NearCoverReport clip_report;
+  t.clip_certified = refined_moments<true>(S, B, det6_B, t.clipped, &clip_report, true);
+  t.clip_bound = clip_report.clip_bound;
+  t.clip_separated = clip_report.separated;
   return t;
 }
 
