@@ -16,9 +16,15 @@ namespace tetia::detail {
 // no other object file can bind to (src/kernel/entry_points.hpp, "Linkage").
 namespace {
 
-template <bool kMoments, class Corner>
+// record(d) receives each triangle's six-fold volume as it is added (by default nothing: the
+// refinement's clipping keeps them for its error bound, refined_clip.hpp).
+struct NoRecord {
+  void operator()(double) const {}
+};
+
+template <bool kMoments, class Corner, class Record = NoRecord>
 [[gnu::always_inline]] inline void fan_pyramids(const double (&o)[3], int n, const Corner& corner, double& fv,
-                                                double (&fm)[3]) {
+                                                double (&fm)[3], const Record& record = Record{}) {
   const double* p0 = corner(0);
   const double ax = p0[1] - o[0], ay = p0[2] - o[1], az = p0[3] - o[2];
   for (int k = 1; k + 1 < n; ++k) {
@@ -27,6 +33,7 @@ template <bool kMoments, class Corner>
     const double bx = p1[1] - o[0], by = p1[2] - o[1], bz = p1[3] - o[2];
     const double cx = p2[1] - o[0], cy = p2[2] - o[1], cz = p2[3] - o[2];
     const double d = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+    record(d);
     fv += d;
     if constexpr (kMoments)
       for (int c = 0; c < 3; ++c) fm[c] += d * (o[c] + p0[c + 1] + p1[c + 1] + p2[c + 1]);

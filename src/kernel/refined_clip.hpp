@@ -314,18 +314,22 @@ inline int vertex_mean(const ClipPoly& P, double (&o)[3]) {
 // over the faces (fan.hpp), each joined to the mean of the vertices and taken in absolute value
 // (a convex polytope: every such pyramid is non-negative), as the kernel's fan_moments does.
 // kMoments: the first moments too (the volume is the same number either way). vol6: six times
-// the volume, before the division (clip_bound's evaluation bound is on it).
+// the volume, before the division (clip_bound's evaluation bound is on it); fan_det: each fan
+// triangle's six-fold volume, face by face in the walk's order (clip_bound reuses them).
 template <bool kMoments>
-void clip_moments(const ClipPoly& P, const ClipFaces& F, double& vol, double (&first)[3], double& vol6) {
+void clip_moments(const ClipPoly& P, const ClipFaces& F, double& vol, double (&first)[3], double& vol6,
+                  double (&fan_det)[3 * ClipPoly::kMax]) {
   vol = vol6 = 0.0;
   first[0] = first[1] = first[2] = 0.0;
   double o[3];
   if (vertex_mean(P, o) < 4) return;
   double m[3] = {0.0, 0.0, 0.0};
+  int triangles = 0;
+  const auto record = [&](double d) { fan_det[triangles++] = d; };
   for (int f = 0; f < F.count; ++f) {
     const int* face = F.vertex + F.start[f];
     double fv = 0.0, fm[3] = {0.0, 0.0, 0.0};
-    fan_pyramids<kMoments>(o, F.start[f + 1] - F.start[f], [&](int k) { return P.lam[face[k]]; }, fv, fm);
+    fan_pyramids<kMoments>(o, F.start[f + 1] - F.start[f], [&](int k) { return P.lam[face[k]]; }, fv, fm, record);
     const double s = fv < 0.0 ? -1.0 : 1.0;
     vol6 += s * fv;
     if constexpr (kMoments)
@@ -356,9 +360,10 @@ void clip_moments(const ClipPoly& P, const ClipFaces& F, double& vol, double (&f
 //      argument below is the same with w and the crossings negated).
 //  (3) One ray from o (towards the centroid of the largest triangle) crosses Sigma exactly once,
 //      certainly: that triangle's three edge determinants with the ray are certainly positive,
-//      every other triangle has one certainly negative, or its face lies on a plane q whose
-//      value certainly grows along the ray from g_q(o) > in_q, so the ray never reaches it.
-//      And o is certainly in I = {g_q > in_q for the planes kept}.
+//      every other triangle has one certainly negative, or its face lies on a plane q that the
+//      ray certainly does not reach inside G (g_q grows along it from g_q(o) > in_q, or it
+//      reaches {g_q <= in_q} only after it has left G through another plane's slab). And o is
+//      certainly in I = {g_q > in_q for the planes kept}.
 // By (2) every crossing of a ray from o with Sigma counts +1 in the winding number; by (3) and
 // the cycle property (the signed count of crossings is the same, w(o), along every generic
 // ray from o) every generic ray crosses exactly once, so w is 0 or 1 everywhere off Sigma and
@@ -414,10 +419,11 @@ inline ClipPlane b_plane(const double (&d)[4], const double (&e)[4]) {
     p.slab = INFINITY;
     return p;
   }
-  // |g|_1 / |g|_2^2 of g scaled by a power of two near 1 / largest (exact; the D's may be
-  // anywhere in the double range, their squares not), scaled back. g rounded (u of each
-  // entry): |g|_1 and |g|_2^2 within 4 u and 6 u of the exact gradient's.
-  const double scale = std::ldexp(1.0, -std::ilogb(largest));
+  // |g|_1 / |g|_2^2, of g scaled by a power of two near 1 / largest where the squares would
+  // leave the normal range (exact; the D's may be anywhere in the double range), scaled back.
+  // g rounded (u of each entry): |g|_1 and |g|_2^2 within 4 u and 6 u of the exact gradient's.
+  const bool in_range = largest > 0x1p-400 && largest < 0x1p400;
+  const double scale = in_range ? 1.0 : std::ldexp(1.0, -std::ilogb(largest));
   double l1 = 0.0, l2 = 0.0;
   for (const double x : p.g) {
     const double y = x * scale;
@@ -483,7 +489,7 @@ inline void difference(const double* a, const double* b, double (&out)[3]) {  //
 // its plane values, x - o, and (x - o) x r for the ray's determinants (det[u_a, u_b, r] =
 // u_a . (u_b x r)).
 inline double clip_bound(const ClipPoly& P, const ClipFaces& F, const double (&d)[4][4], const double (&e)[4][4],
-                         double vol6) {
+                         double vol6, const double (&fan_det)[3 * ClipPoly::kMax]) {
   constexpr int kMax = ClipPoly::kMax;
   int n = 0;
   for (int v = 0; v < P.n; ++v) n += !P.dead[v];
@@ -497,6 +503,10 @@ inline double clip_bound(const ClipPoly& P, const ClipFaces& F, const double (&d
   // on it (an upper bound); rho, how far outside the simplex a vertex may lie.
   double low[8], high_on[8];
   for (int q = 0; q < 8; ++q) low[q] = INFINITY, high_on[q] = -INFINITY;
+  // B's four planes side by side (plane_value's operations, lane by lane: vectorized).
+  double c0[4], g0[4], g1[4], g2[4];
+  for (int j = 0; j < 4; ++j) c0[j] = plane[4 + j].c0, g0[j] = plane[4 + j].g[0], g1[j] = plane[4 + j].g[1],
+                               g2[j] = plane[4 + j].g[2];
   for (int v = 0; v < P.n; ++v) {
     if (P.dead[v]) continue;
     const double* x = x_of(v);
@@ -505,11 +515,23 @@ inline double clip_bound(const ClipPoly& P, const ClipFaces& F, const double (&d
       low[q] = std::min(low[q], x[q - 1]);
       if (on >> q & 1u) high_on[q] = std::max(high_on[q], x[q - 1]);
     }
-    for (int q = 0; q < 8; q = q == 0 ? 4 : q + 1) {
+    {
       double b;
-      const double g = plane_value(plane[q], x, b);
-      low[q] = std::min(low[q], g - b);
-      if (on >> q & 1u) high_on[q] = std::max(high_on[q], g + b);
+      const double g = plane_value(plane[0], x, b);
+      low[0] = std::min(low[0], g - b);
+      if (on & 1u) high_on[0] = std::max(high_on[0], g + b);
+    }
+    double lo[4], hi[4];
+    for (int j = 0; j < 4; ++j) {
+      const double t0 = g0[j] * x[0], t1 = g1[j] * x[1], t2 = g2[j] * x[2];
+      const double g = ((c0[j] + t0) + t1) + t2;
+      const double b = 0x1.cp-51 * (((std::abs(c0[j]) + std::abs(t0)) + std::abs(t1)) + std::abs(t2)) + 0x1p-1070;
+      lo[j] = g - b;
+      hi[j] = g + b;
+    }
+    for (int j = 0; j < 4; ++j) {
+      low[4 + j] = std::min(low[4 + j], lo[j]);
+      if (on >> (4 + j) & 1u) high_on[4 + j] = std::max(high_on[4 + j], hi[j]);
     }
   }
   double rho = 0.0;
@@ -529,7 +551,7 @@ inline double clip_bound(const ClipPoly& P, const ClipFaces& F, const double (&d
     face_plane[f] = common;
     kept |= common;
   }
-  double in[8], out[8];
+  double in[8], out[8], at_o[8], at_o_bound[8];
   double o[3];
   vertex_mean(P, o);
   for (int q = 0; q < 8; ++q) {
@@ -537,8 +559,8 @@ inline double clip_bound(const ClipPoly& P, const ClipFaces& F, const double (&d
     kept |= 1u << q;
     in[q] = std::max(high_on[q], 0.0) + plane[q].data_error;
     out[q] = std::max(-low[q], 0.0) + plane[q].data_error;
-    double b;
-    if (!(plane_value(plane[q], o, b) - b > in[q])) return INFINITY;  // o certainly in I
+    at_o[q] = plane_value(plane[q], o, at_o_bound[q]);
+    if (!(at_o[q] - at_o_bound[q] > in[q])) return INFINITY;  // o certainly in I
   }
   // u = x - o per vertex, and its largest |entry|.
   double u[kMax][3], norm[kMax];
@@ -557,21 +579,27 @@ inline double clip_bound(const ClipPoly& P, const ClipFaces& F, const double (&d
     const int len = F.start[f + 1] - F.start[f];
     const double* a = x_of(face[0]);
     for (int k = 1; k + 1 < len; ++k) {
-      ++triangles;
-      evaluation += norm[face[0]] * norm[face[k]] * norm[face[k + 1]];
+      const double product = norm[face[0]] * norm[face[k]] * norm[face[k + 1]];
+      evaluation += product;
+      double det = fan_det[triangles++];  // as fan_pyramids evaluated it, o-relative
       const double *b = x_of(face[k]), *c = x_of(face[k + 1]);
       if (equal(a, b) || equal(b, c) || equal(c, a)) continue;  // a segment or a point: no area (see (3))
-      double ba[3], ca[3], permanent;
-      difference(b, a, ba);
-      difference(c, a, ca);
-      double det = det3(u[face[0]], ba, ca, permanent);
-      if (!(std::abs(det) > kDoubleError * permanent + 0x1p-1070)) {
-        // Within the doubles' rounding (a thin triangle, corners near each other): again in
-        // double-double from the exact differences (kDoubleDoubleError, the rounding of hi + lo,
-        // and 2^-1000 for underflow, as certified_orientations).
-        det = det_refined(o, a, b, c);
-        if (!(std::abs(det) > (kDoubleDoubleError * permanent + 0x1p-1000) * (1.0 + 0x1p-50) + 0x1p-53 * std::abs(det)))
-          return INFINITY;
+      // Its permanent is at most 6 times the product of its rows' largest entries; where that
+      // does not certify its sign, det[a - o, b - a, c - a] with its own permanent (smaller for a
+      // thin triangle), then double-double.
+      if (!(std::abs(det) > kDoubleError * 6.0 * product * (1.0 + 0x1p-50) + 0x1p-1070)) {
+        double ba[3], ca[3], permanent;
+        difference(b, a, ba);
+        difference(c, a, ca);
+        det = det3(u[face[0]], ba, ca, permanent);
+        if (!(std::abs(det) > kDoubleError * permanent + 0x1p-1070)) {
+          // Within the doubles' rounding (corners near each other): again in double-double from
+          // the exact differences (kDoubleDoubleError, the rounding of hi + lo, and 2^-1000 for
+          // underflow, as certified_orientations).
+          det = det_refined(o, a, b, c);
+          if (!(std::abs(det) > (kDoubleDoubleError * permanent + 0x1p-1000) * (1.0 + 0x1p-50) + 0x1p-53 * std::abs(det)))
+            return INFINITY;
+        }
       }
       if (orientation == 0.0) orientation = det < 0.0 ? -1.0 : 1.0;
       det *= orientation;
@@ -612,19 +640,34 @@ inline double clip_bound(const ClipPoly& P, const ClipFaces& F, const double (&d
                          0x1p-1070;
     return det > bound ? sign : (det < -bound ? -sign : 0);
   };
-  for (int f = 0; f < F.count; ++f) {
-    if (f != best_face) {
-      // The face's plane grows along the ray: never reached (its points have g_q <= in_q < g_q(o)).
-      bool away = false;
-      for (int q = 0; q < 8 && !away; ++q) {
-        if (!(face_plane[f] >> q & 1u)) continue;
-        const ClipPlane& p = plane[q];
-        const double slope = (p.g[0] * r[0] + p.g[1] * r[1]) + p.g[2] * r[2];
-        const double b = 0x1.cp-51 * ((std::abs(p.g[0] * r[0]) + std::abs(p.g[1] * r[1])) + std::abs(p.g[2] * r[2]));
-        away = slope - b >= 0.0;
-      }
-      if (away) continue;
+  // Along the ray x(s) = o + s r, each kept plane's value g_q(o) + s slope_q (slope_q within its
+  // bound: products and sums, and g's rounding). The ray leaves G, for good, once some g_q with
+  // a certainly negative slope passes -out_q: at s_exit at the latest (an upper bound). A face
+  // on plane q lies in {g_q <= in_q}, which the ray reaches at s_q >= (g_q(o) - in_q) / |slope_q|
+  // (a lower bound; never where the slope is certainly >= 0). A face whose every such s_q
+  // certainly exceeds s_exit is not crossed; the others are tested triangle by triangle.
+  double slope_lo[8], slope_hi[8];
+  double exit_at = INFINITY;
+  for (int q = 0; q < 8; ++q) {
+    if (!(kept >> q & 1u)) continue;
+    const ClipPlane& p = plane[q];
+    const double slope = (p.g[0] * r[0] + p.g[1] * r[1]) + p.g[2] * r[2];
+    const double b = 0x1.cp-51 * ((std::abs(p.g[0] * r[0]) + std::abs(p.g[1] * r[1])) + std::abs(p.g[2] * r[2]));
+    slope_lo[q] = slope - b;
+    slope_hi[q] = slope + b;
+    if (slope_hi[q] < 0.0)
+      exit_at = std::min(exit_at, (at_o[q] + at_o_bound[q] + out[q]) / -slope_hi[q] * (1.0 + 0x1p-50));
+  }
+  const auto not_reached = [&](int f) {
+    for (int q = 0; q < 8; ++q) {
+      if (!(face_plane[f] >> q & 1u)) continue;
+      if (slope_lo[q] >= 0.0) return true;  // g_q grows along the ray: it stays above in_q
+      if ((at_o[q] - at_o_bound[q] - in[q]) / -slope_lo[q] * (1.0 - 0x1p-50) > exit_at) return true;
     }
+    return false;
+  };
+  for (int f = 0; f < F.count; ++f) {
+    if (f != best_face && not_reached(f)) continue;
     const int* face = F.vertex + F.start[f];
     const int len = F.start[f + 1] - F.start[f];
     for (int k = 0; k < len; ++k) make_w(face[k]);
@@ -961,13 +1004,13 @@ bool refined_moments(const Tet& S, const Tet& B, double det6_B, Moments& out, Ne
   }
   ClipFaces F;
   if (!walk_faces(P, F)) return false;
-  double vol_ref, first_ref[3], vol6;
-  clip_moments<kMoments>(P, F, vol_ref, first_ref, vol6);
+  double vol_ref, first_ref[3], vol6, fan_det[3 * ClipPoly::kMax];
+  clip_moments<kMoments>(P, F, vol_ref, first_ref, vol6, fan_det);
   out.volume = vol_ref * scale;
   if (!(out.volume > 0.0)) return empty();
   // The clipping's bound (clip_bound) in units of S's exact volume, with S's det6's error and
   // the rounding of vol6 / 6 and of the product with scale, as the near-cover formula's.
-  double bound = clip_bound(P, F, planes, errors, vol6);
+  double bound = clip_bound(P, F, planes, errors, vol6, fan_det);
   if (!(bound <= kClipAccepted)) bound = std::min(bound, thin_bound(planes, errors, vol6));
   const double total = (bound * scale + (vol6 + bound) * det6_error) / (scale - det6_error) + 5.0 * 0x1p-53;
   rep.clip_bound = total;
