@@ -358,6 +358,13 @@ void clip_moments(const ClipPoly& P, const ClipFaces& F, double& vol, double (&f
 //      the vertices' mean: det(a - o, b - a, c - a) beyond its rounding bound, with the sign of
 //      the first (the walk's orientation: inwards for the neighbour order of unit_simplex; the
 //      argument below is the same with w and the crossings negated).
+//  (3') A few triangles may fail (2) (bad: corners near each other, no certain orientation even
+//      in double-double, or a fold of the other orientation): the ray of (3) certainly misses
+//      each (two of its edge determinants certainly differ in sign), which keeps w(o) = 1; the
+//      rays through them (a solid angle of at most their area over the squared distance from o
+//      to their face's slab) may cross Sigma more than once, where |w - w_R| <= 2 + 2 n_bad,
+//      out to the farthest vertex: 4 (1 + n_bad) angle R^3 more (6-fold volume), and twice their
+//      pyramids' volume for a face whose sum they could turn.
 //  (3) One ray from o (towards the centroid of the largest triangle) crosses Sigma exactly once,
 //      certainly: that triangle's three edge determinants with the ray are certainly positive,
 //      every other triangle has one certainly negative, or its face lies on a plane q that the
@@ -386,6 +393,7 @@ struct ClipPlane {
   double c0, g[3];
   double data_error;  // |g* - g| on the unit simplex: the largest of its D's error bounds
   double slab;        // |g|_1 / |g|_2^2, rounded up (3 times this per unit width: a slab's fraction)
+  double norm;        // |g|_2, rounded up
 };
 
 // g(x) within `bound` (see the top of this section: the sum of four terms, each with at most
@@ -401,7 +409,7 @@ inline double plane_value(const ClipPlane& p, const double* x, double& bound) {
 // Plane q = 0..3: S's face lambda_q = 0; q = 4..7: B's plane q - 4 with values d at S's
 // vertices (lambda_0 = 1 - x1 - x2 - x3), each within e.
 inline ClipPlane simplex_plane(int q) {
-  ClipPlane p{q == 0 ? 1.0 : 0.0, {0.0, 0.0, 0.0}, 0.0, 1.0};
+  ClipPlane p{q == 0 ? 1.0 : 0.0, {0.0, 0.0, 0.0}, 0.0, 1.0, q == 0 ? 1.7320508075688774 : 1.0};
   for (int k = 0; k < 3; ++k) p.g[k] = q == 0 ? -1.0 : (k + 1 == q ? 1.0 : 0.0);
   return p;
 }
@@ -416,7 +424,7 @@ inline ClipPlane b_plane(const double (&d)[4], const double (&e)[4]) {
   }
   p.data_error = std::max(std::max(e[0], e[1]), std::max(e[2], e[3]));
   if (!(largest > 0.0 && largest < INFINITY)) {
-    p.slab = INFINITY;
+    p.slab = p.norm = INFINITY;
     return p;
   }
   // |g|_1 / |g|_2^2, of g scaled by a power of two near 1 / largest where the squares would
@@ -431,6 +439,7 @@ inline ClipPlane b_plane(const double (&d)[4], const double (&e)[4]) {
     l2 += y * y;
   }
   p.slab = (l1 / l2) * scale * (1.0 + 0x1p-48);
+  p.norm = std::sqrt(l2) / scale * (1.0 + 0x1p-49);
   return p;
 }
 
@@ -572,8 +581,13 @@ inline double clip_bound(const ClipPoly& P, const ClipFaces& F, const double (&d
   // (2) and the evaluation bound (each fan determinant's permanent at most 6 times the product
   // of its rows' largest entries); the largest triangle for (3).
   double evaluation = 0.0, largest = 0.0;
-  double orientation = 0.0;  // the walk's: every triangle's determinant must have its sign
+  double orientation = 0.0;  // the walk's: a triangle's determinant with its sign is good
   int triangles = 0, best_face = -1, best_k = 0;
+  // Bad triangles (3'): no certain orientation, or the other one. Their pyramids from o are
+  // within bad_volume (6-fold), and the directions from o through them within bad_angle.
+  std::uint64_t bad[3] = {0, 0, 0};  // bit t of bad[t / 64]: triangle t (walk order)
+  int bad_count = 0;
+  double bad_volume = 0.0, bad_angle = 0.0;
   for (int f = 0; f < F.count; ++f) {
     const int* face = F.vertex + F.start[f];
     const int len = F.start[f + 1] - F.start[f];
@@ -581,30 +595,57 @@ inline double clip_bound(const ClipPoly& P, const ClipFaces& F, const double (&d
     for (int k = 1; k + 1 < len; ++k) {
       const double product = norm[face[0]] * norm[face[k]] * norm[face[k + 1]];
       evaluation += product;
-      double det = fan_det[triangles++];  // as fan_pyramids evaluated it, o-relative
+      const int t = triangles++;
+      const double fan = fan_det[t];  // as fan_pyramids evaluated it, o-relative
+      double det = fan;
       const double *b = x_of(face[k]), *c = x_of(face[k + 1]);
       if (equal(a, b) || equal(b, c) || equal(c, a)) continue;  // a segment or a point: no area (see (3))
       // Its permanent is at most 6 times the product of its rows' largest entries; where that
       // does not certify its sign, det[a - o, b - a, c - a] with its own permanent (smaller for a
       // thin triangle), then double-double.
-      if (!(std::abs(det) > kDoubleError * 6.0 * product * (1.0 + 0x1p-50) + 0x1p-1070)) {
-        double ba[3], ca[3], permanent;
+      bool certain = std::abs(det) > kDoubleError * 6.0 * product * (1.0 + 0x1p-50) + 0x1p-1070;
+      double ba[3], ca[3];
+      if (!certain) {
+        double permanent;
         difference(b, a, ba);
         difference(c, a, ca);
         det = det3(u[face[0]], ba, ca, permanent);
-        if (!(std::abs(det) > kDoubleError * permanent + 0x1p-1070)) {
+        certain = std::abs(det) > kDoubleError * permanent + 0x1p-1070;
+        if (!certain) {
           // Within the doubles' rounding (corners near each other): again in double-double from
           // the exact differences (kDoubleDoubleError, the rounding of hi + lo, and 2^-1000 for
           // underflow, as certified_orientations).
           det = det_refined(o, a, b, c);
-          if (!(std::abs(det) > (kDoubleDoubleError * permanent + 0x1p-1000) * (1.0 + 0x1p-50) + 0x1p-53 * std::abs(det)))
-            return INFINITY;
+          certain = std::abs(det) >
+                    (kDoubleDoubleError * permanent + 0x1p-1000) * (1.0 + 0x1p-50) + 0x1p-53 * std::abs(det);
         }
       }
-      if (orientation == 0.0) orientation = det < 0.0 ? -1.0 : 1.0;
-      det *= orientation;
-      if (!(det > 0.0)) return INFINITY;
-      if (det > largest) largest = det, best_face = f, best_k = k;
+      if (certain && orientation == 0.0) orientation = det < 0.0 ? -1.0 : 1.0;
+      if (certain && det * orientation > 0.0) {
+        if (det * orientation > largest) largest = det * orientation, best_face = f, best_k = k;
+        continue;
+      }
+      // (3'): its pyramid's 6-fold volume within |fan| and its rounding; its solid angle from o
+      // at most its area over the squared distance to its face's slab, which o is beyond.
+      if (certain) {  // the first difference was not needed to certify it
+        difference(b, a, ba);
+        difference(c, a, ca);
+      }
+      double area2 = 0.0;  // twice the area, rounded up: |ba x ca|_1 with 4 u of room
+      for (int i = 0; i < 3; ++i) {
+        const int j = (i + 1) % 3, l = (i + 2) % 3;
+        area2 += std::abs(ba[j] * ca[l]) + std::abs(ba[l] * ca[j]);
+      }
+      area2 *= 1.0 + 0x1p-50;
+      double distance = 0.0;
+      for (int q = 0; q < 8; ++q)
+        if (face_plane[f] >> q & 1u)
+          distance = std::max(distance, (at_o[q] - at_o_bound[q] - in[q]) / plane[q].norm * (1.0 - 0x1p-50));
+      if (!(distance > 0.0)) return INFINITY;
+      bad[t / 64] |= std::uint64_t{1} << (t % 64);
+      ++bad_count;
+      bad_volume += std::abs(fan) + kDoubleError * 6.0 * product * (1.0 + 0x1p-50);
+      bad_angle += 0.5 * area2 / (distance * distance) * (1.0 + 0x1p-50);
     }
   }
   if (best_face < 0) return INFINITY;
@@ -677,8 +718,13 @@ inline double clip_bound(const ClipPoly& P, const ClipFaces& F, const double (&d
       const int s0 = spoke, s1 = edge_sign(face[k], face[k + 1]), s2 = -next;
       spoke = next;
       const bool crossed = s0 > 0 && s1 > 0 && s2 > 0;
+      const int t = F.start[f] - 2 * f + k - 1;  // the triangle's number in the walk
       if (f == best_face && k == best_k) {
         if (!crossed) return INFINITY;
+      } else if (bad[t / 64] >> (t % 64) & 1u) {
+        // Whatever its orientation, the ray misses it where two of its edge determinants
+        // certainly differ in sign.
+        if (!((s0 > 0 || s1 > 0 || s2 > 0) && (s0 < 0 || s1 < 0 || s2 < 0))) return INFINITY;
       } else if (!(s0 < 0 || s1 < 0 || s2 < 0)) {
         // Crossed, or uncertain; a triangle with two equal corners is a segment, which one of
         // these determinants certainly excludes; one with three equal corners is a point, off the
@@ -692,9 +738,22 @@ inline double clip_bound(const ClipPoly& P, const ClipFaces& F, const double (&d
   for (int q = 0; q < 8; ++q)
     if (kept >> q & 1u) slabs += (in[q] + out[q]) * plane[q].slab;
   const double grow2 = (1.0 + 4.0 * rho) * (1.0 + 4.0 * rho);
-  // The computed determinants' magnitudes sum to at most vol6 plus their errors (all positive).
-  const double sum_rounding = (triangles + 2) * 0x1p-53 * (vol6 + kDoubleError * evaluation);
-  return ((3.0 * slabs * grow2 + kDoubleError * evaluation) + sum_rounding) * (1.0 + 0x1p-48);
+  // The computed determinants' magnitudes sum to at most vol6 plus their errors (the good ones
+  // positive, the bad ones within bad_volume).
+  const double sum_rounding = (triangles + 2) * 0x1p-53 * ((vol6 + kDoubleError * evaluation) + 2.0 * bad_volume);
+  double bound = (3.0 * slabs * grow2 + kDoubleError * evaluation) + sum_rounding;
+  if (bad_count > 0) {
+    // (3'): rays through bad triangles (solid angle at most bad_angle) may cross the surface
+    // more than once; along them |w - w_R| <= 2 + 2 bad_count, out to the farthest vertex
+    // (radius at most sqrt(3) times the largest |x - o| entry): 6-fold, 6 (2 + 2 n) angle R^3 / 3.
+    // And a face whose pyramids sum to the other sign counts twice its bad part (2 bad_volume).
+    double far = 0.0;
+    for (int v = 0; v < P.n; ++v)
+      if (!P.dead[v]) far = std::max(far, norm[v]);
+    const double radius3 = 5.196152422706633 * far * far * far * (1.0 + 0x1p-48);  // (sqrt 3)^3
+    bound += 4.0 * (1.0 + bad_count) * bad_angle * radius3 + 2.0 * bad_volume;
+  }
+  return bound * (1.0 + 0x1p-48);
 }
 
 // --- S almost inside B: the volume from the parts of S that B's planes cut off ----------------
