@@ -384,8 +384,8 @@ void clip_moments(const ClipPoly& P, const ClipFaces& F, double& vol, double (&f
 // (1/4)(|n|_1 + |n1 + n2 + n3|) <= |n|_1 / 2 for the unit simplex and unit normal n, times
 // (1 + 4 rho)^2: as a fraction of the simplex's 1/6, 3 h |grad|_1 / |grad|_2^2 (1 + 4 rho)^2.
 // To that the rounding of the volume's own evaluation: each fan determinant within kDoubleError
-// of its permanent (o-relative, as fan_pyramids evaluates it), the sums within (T + 2) u of the
-// sum of their magnitudes (T triangles). Evaluations of g_q at a point are bounded the same
+// of its permanent (o-relative, as fan_pyramids evaluates it), the sums within 2 (T + 1) u of
+// the sum of their magnitudes (T triangles). Evaluations of g_q at a point are bounded the same
 // way (plane_value). The bound is a fraction of S's volume; infinite where a check fails.
 
 // A plane as an affine function of x = (lambda1, lambda2, lambda3): g(x) = c0 + g . x.
@@ -571,15 +571,16 @@ inline double clip_bound(const ClipPoly& P, const ClipFaces& F, const double (&d
     at_o[q] = plane_value(plane[q], o, at_o_bound[q]);
     if (!(at_o[q] - at_o_bound[q] > in[q])) return INFINITY;  // o certainly in I
   }
-  // u = x - o per vertex, and its largest |entry|.
-  double u[kMax][3], norm[kMax];
+  // u = x - o per vertex, its largest |entry| and the sum of its |entries|.
+  double u[kMax][3], norm[kMax], norm1[kMax];
   for (int v = 0; v < P.n; ++v) {
     if (P.dead[v]) continue;
     difference(x_of(v), o, u[v]);
     norm[v] = std::max(std::max(std::abs(u[v][0]), std::abs(u[v][1])), std::abs(u[v][2]));
+    norm1[v] = (std::abs(u[v][0]) + std::abs(u[v][1])) + std::abs(u[v][2]);
   }
-  // (2) and the evaluation bound (each fan determinant's permanent at most 6 times the product
-  // of its rows' largest entries); the largest triangle for (3).
+  // (2) and the evaluation bound (each fan determinant's permanent, sum_i |a_i| (|b_j c_k| +
+  // |b_k c_j|), at most 2 |a|_1 |b|_inf |c|_inf); the largest triangle for (3).
   double evaluation = 0.0, largest = 0.0;
   double orientation = 0.0;  // the walk's: a triangle's determinant with its sign is good
   int triangles = 0, best_face = -1, best_k = 0;
@@ -593,17 +594,16 @@ inline double clip_bound(const ClipPoly& P, const ClipFaces& F, const double (&d
     const int len = F.start[f + 1] - F.start[f];
     const double* a = x_of(face[0]);
     for (int k = 1; k + 1 < len; ++k) {
-      const double product = norm[face[0]] * norm[face[k]] * norm[face[k + 1]];
+      const double product = 2.0 * norm1[face[0]] * norm[face[k]] * norm[face[k + 1]] * (1.0 + 0x1p-50);
       evaluation += product;
       const int t = triangles++;
       const double fan = fan_det[t];  // as fan_pyramids evaluated it, o-relative
       double det = fan;
       const double *b = x_of(face[k]), *c = x_of(face[k + 1]);
       if (equal(a, b) || equal(b, c) || equal(c, a)) continue;  // a segment or a point: no area (see (3))
-      // Its permanent is at most 6 times the product of its rows' largest entries; where that
-      // does not certify its sign, det[a - o, b - a, c - a] with its own permanent (smaller for a
-      // thin triangle), then double-double.
-      bool certain = std::abs(det) > kDoubleError * 6.0 * product * (1.0 + 0x1p-50) + 0x1p-1070;
+      // Where its permanent's bound does not certify its sign, det[a - o, b - a, c - a] with its
+      // own permanent (smaller for a thin triangle), then double-double.
+      bool certain = std::abs(det) > kDoubleError * product + 0x1p-1070;
       double ba[3], ca[3];
       if (!certain) {
         double permanent;
@@ -644,12 +644,11 @@ inline double clip_bound(const ClipPoly& P, const ClipFaces& F, const double (&d
       if (!(distance > 0.0)) return INFINITY;
       bad[t / 64] |= std::uint64_t{1} << (t % 64);
       ++bad_count;
-      bad_volume += std::abs(fan) + kDoubleError * 6.0 * product * (1.0 + 0x1p-50);
+      bad_volume += std::abs(fan) + kDoubleError * product;
       bad_angle += 0.5 * area2 / (distance * distance) * (1.0 + 0x1p-50);
     }
   }
   if (best_face < 0) return INFINITY;
-  evaluation *= 6.0;
   // (3) the ray from o towards the centroid of the largest triangle.
   double r[3];
   {
@@ -739,9 +738,12 @@ inline double clip_bound(const ClipPoly& P, const ClipFaces& F, const double (&d
     if (kept >> q & 1u) slabs += (in[q] + out[q]) * plane[q].slab;
   const double grow2 = (1.0 + 4.0 * rho) * (1.0 + 4.0 * rho);
   // The computed determinants' magnitudes sum to at most vol6 plus their errors (the good ones
-  // positive, the bad ones within bad_volume).
-  const double sum_rounding = (triangles + 2) * 0x1p-53 * ((vol6 + kDoubleError * evaluation) + 2.0 * bad_volume);
-  double bound = (3.0 * slabs * grow2 + kDoubleError * evaluation) + sum_rounding;
+  // positive, the bad ones within bad_volume); the running sums, within each face and over the
+  // faces, round at most T + F <= 2 T times. The determinants' errors count three times: once
+  // as errors, and twice more where a face's computed sum came out of the other sign only
+  // through them (clip_moments takes each face's sum in absolute value).
+  const double sum_rounding = 2.0 * (triangles + 1) * 0x1p-53 * ((vol6 + kDoubleError * evaluation) + 2.0 * bad_volume);
+  double bound = (3.0 * slabs * grow2 + 3.0 * kDoubleError * evaluation) + sum_rounding;
   if (bad_count > 0) {
     // (3'): rays through bad triangles (solid angle at most bad_angle) may cross the surface
     // more than once; along them |w - w_R| <= 2 + 2 bad_count, out to the farthest vertex
