@@ -6,10 +6,11 @@
 //
 // Why: an empty result that the a priori estimate does not certify (a sliver near the other
 // tetrahedron, a size ratio far from 1) needs a certificate that the exact intersection is empty
-// or below 1e-12 of the smaller tetrahedron. Among the 10^6 benchmark pairs, every such result
-// had a separating plane with a margin far above rounding: a face of the bigger tetrahedron in
-// 64 % of them, a face of the smaller in 16 %, an edge of each in 20 % (2 x 10^5 pairs,
-// 2026-12-06). Where such a plane exists the intersection has no volume, whatever the sizes.
+// or below 1e-12 of the smaller tetrahedron. Among the benchmark's random pairs (the first
+// 2 x 10^5, 2026-12-06), every such result had a separating plane with a margin far above
+// rounding: a face of the bigger tetrahedron in 64 % of them, a face of the smaller in 16 %, an
+// edge of each in 20 %. Where such a plane exists the intersection has no volume, whatever the
+// sizes.
 //
 // Contract: certainly_separated(A, B) returns true only if A and B lie in the two closed
 // half-spaces of some plane (A n B then lies in the plane: its volume is 0); false says nothing
