@@ -106,11 +106,11 @@ void finalize_mesh(Mesh& m, const std::string& name) {
   // from contiguous memory; within a bucket (up to 150 facets in the peers' meshes, half of all
   // facets in buckets of more than 32), equal facets are matched through a small open-addressing
   // table on the packed nodes, in the fill's order (facet ascending; a bucket of more than 256,
-  // by sorting it). The first two occurrences
-  // of a facet are linked, a third is an error (reported at the cell of the third, in cell order
-  // within its bucket). The keys are formed twice (to count, then to fill) rather than stored:
-  // three compare-exchanges cost less than 12 B a facet written and read again. (Sorting each
-  // bucket by the packed nodes instead was half of finalize's time on those meshes.)
+  // by sorting it). The first two occurrences of a facet are linked, a third is an error
+  // (reported at the cell of the third, in cell order within its bucket). The keys are formed
+  // twice (to count, then to fill) rather than stored: three compare-exchanges cost less than
+  // 12 B a facet written and read again. (Sorting each bucket by the packed nodes instead was
+  // half of finalize's time on those meshes.)
   constexpr std::size_t nf = nv;  // facets per cell
   using Key = std::array<std::int32_t, nv - 1>;
   const auto facet_key = [](const auto& v, std::size_t k) {

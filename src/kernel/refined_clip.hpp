@@ -315,13 +315,13 @@ inline int vertex_mean(const ClipPoly& P, double (&o)[3]) {
 // (a convex polytope: every such pyramid is non-negative), as the kernel's fan_moments does.
 // kMoments: the first moments too (the volume is the same number either way). vol6: six times
 // the volume, before the division (clip_bound's evaluation bound is on it); fan_det: each fan
-// triangle's six-fold volume, face by face in the walk's order (clip_bound reuses them).
+// triangle's six-fold volume, face by face in the walk's order, and o the fans' apex
+// (clip_bound reuses both).
 template <bool kMoments>
 void clip_moments(const ClipPoly& P, const ClipFaces& F, double& vol, double (&first)[3], double& vol6,
-                  double (&fan_det)[3 * ClipPoly::kMax]) {
+                  double (&fan_det)[3 * ClipPoly::kMax], double (&o)[3]) {
   vol = vol6 = 0.0;
   first[0] = first[1] = first[2] = 0.0;
-  double o[3];
   if (vertex_mean(P, o) < 4) return;
   double m[3] = {0.0, 0.0, 0.0};
   int triangles = 0;
@@ -451,14 +451,6 @@ inline double det3(const double (&u)[3], const double (&v)[3], const double (&w)
   return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
 }
 
-// The sign of det[u, v, w] where certain: +1, -1, or 0 where within its bound.
-inline int certain_sign(const double (&u)[3], const double (&v)[3], const double (&w)[3]) {
-  double permanent;
-  const double det = det3(u, v, w, permanent);
-  const double bound = kDoubleError * permanent + 0x1p-1070;
-  return det > bound ? 1 : (det < -bound ? -1 : 0);
-}
-
 inline bool equal(const double* a, const double* b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
 
 // det[a - o, b - a, c - a] in double-double from the exact differences, rounded to a double:
@@ -493,12 +485,13 @@ inline void difference(const double* a, const double* b, double (&out)[3]) {  //
 }
 
 // The bound (as a fraction of S's volume) on |vol6 / 6 - |P*|| for the clipped polytope P with
-// faces F (walk_faces) and six times its volume vol6 (clip_moments), B's planes d with errors e.
+// faces F (walk_faces), six times its volume vol6, its fans' determinants and apex o
+// (clip_moments), B's planes d with errors e.
 // Infinite where (1)-(3) above are not all certain. What each vertex needs is computed once:
 // its plane values, x - o, and (x - o) x r for the ray's determinants (det[u_a, u_b, r] =
 // u_a . (u_b x r)).
 inline double clip_bound(const ClipPoly& P, const ClipFaces& F, const double (&d)[4][4], const double (&e)[4][4],
-                         double vol6, const double (&fan_det)[3 * ClipPoly::kMax]) {
+                         double vol6, const double (&fan_det)[3 * ClipPoly::kMax], const double (&o)[3]) {
   constexpr int kMax = ClipPoly::kMax;
   int n = 0;
   for (int v = 0; v < P.n; ++v) n += !P.dead[v];
@@ -561,8 +554,6 @@ inline double clip_bound(const ClipPoly& P, const ClipFaces& F, const double (&d
     kept |= common;
   }
   double in[8], out[8], at_o[8], at_o_bound[8];
-  double o[3];
-  vertex_mean(P, o);
   for (int q = 0; q < 8; ++q) {
     if (!(kept >> q & 1u) && low[q] > plane[q].data_error) continue;  // certainly holds the hull
     kept |= 1u << q;
@@ -1065,13 +1056,13 @@ bool refined_moments(const Tet& S, const Tet& B, double det6_B, Moments& out, Ne
   }
   ClipFaces F;
   if (!walk_faces(P, F)) return false;
-  double vol_ref, first_ref[3], vol6, fan_det[3 * ClipPoly::kMax];
-  clip_moments<kMoments>(P, F, vol_ref, first_ref, vol6, fan_det);
+  double vol_ref, first_ref[3], vol6, fan_det[3 * ClipPoly::kMax], apex[3];
+  clip_moments<kMoments>(P, F, vol_ref, first_ref, vol6, fan_det, apex);
   out.volume = vol_ref * scale;
   if (!(out.volume > 0.0)) return empty();
   // The clipping's bound (clip_bound) in units of S's exact volume, with S's det6's error and
   // the rounding of vol6 / 6 and of the product with scale, as the near-cover formula's.
-  double bound = clip_bound(P, F, planes, errors, vol6, fan_det);
+  double bound = clip_bound(P, F, planes, errors, vol6, fan_det, apex);
   if (!(bound <= kClipAccepted)) bound = std::min(bound, thin_bound(planes, errors, vol6));
   const double total = (bound * scale + (vol6 + bound) * det6_error) / (scale - det6_error) + 5.0 * 0x1p-53;
   rep.clip_bound = total;
