@@ -5,10 +5,12 @@
 #include "tetia/tri_intersection.hpp"
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
 #include "kernel/kernel_variant.hpp"
+#include "tetia/kernel_trace.hpp"
 
 #define TETIA_KERNEL_VARIANT baseline
 #include "kernel/tri_kernel.hpp"
@@ -51,6 +53,34 @@ std::vector<Triangle> Polygon::triangles() const {
   for (const auto& t : triangle_corners()) out.push_back({corners_[t[0]].point, corners_[t[1]].point, corners_[t[2]].point});
   return out;
 }
+
+namespace detail {
+
+TriClipTrace tri_clip_trace(const Triangle& A, const Triangle& B) {
+  TriClipTrace t;
+  detail2::Frame fr;
+  Triangle scaled_a = A, scaled_b = B;
+  int scale = 0;
+  if (detail2::make_frame(A, B, fr) == detail2::FrameStatus::rescale) {  // as solve() scales
+    scale = -(std::ilogb(fr.size_squared_max) / 2);
+    if (!scaled_exactly(&A[0].x, 6, scale, &scaled_a[0].x) || !scaled_exactly(&B[0].x, 6, scale, &scaled_b[0].x))
+      return t;
+  }
+  Triangle a, b;
+  std::uint8_t perm[3];
+  detail2::canonical_order(scaled_a, a, perm);
+  detail2::canonical_order(scaled_b, b, perm);
+  detail2::ClipEnclosure e;
+  detail2::kernel_area_stands(a, b, 0.0, &e);
+  t.enclosed = e.found;
+  t.area = std::ldexp(e.area, -2 * scale);
+  t.error = std::ldexp(e.error, -2 * scale);
+  t.relative = e.error / (0.5 * (e.det - e.det_error));
+  t.fraction = e.fraction;
+  return t;
+}
+
+}  // namespace detail
 
 Polygon intersect(const Triangle& A, const Triangle& B, TriIntersectionStats* stats) {
   return detail::kernel_variant().tri_intersect(A, B, stats);

@@ -217,9 +217,7 @@ TEST(TriCertified, NeedlesAndSizeRatios) {
   Tally needles, ratios;
   for (int i = 0; i < 3000; ++i) {
     const double aspect = std::pow(10.0, urand(g, 2.0, 8.0));
-    const Triangle needle = {Vec2{-0.5, 0.0}, Vec2{0.5, urand(g, -0.5, 0.5) / aspect}, Vec2{urand(g, -0.4, 0.4), 1.0 / aspect}};
-    const Triangle fat = {Vec2{urand(g, -0.6, 0.0), urand(g, -0.6, -0.1)}, Vec2{urand(g, 0.0, 0.6), urand(g, -0.6, 0.6)},
-                          Vec2{urand(g, -0.6, 0.6), urand(g, 0.1, 0.6)}};
+    const auto [needle, fat] = needle_and_fat(g, aspect);
     const double theta = urand(g, 0.0, 6.283185307179586);
     const Triangle A = rotate(needle, {0.1, 0.0}, theta), B = rotate(fat, {0.1, 0.0}, theta);
     if (!flat(A) && !flat(B)) check(A, B, needles, "needle");

@@ -11,6 +11,7 @@
 #include <cstdint>
 
 #include "tetia/tet_intersection.hpp"
+#include "tetia/tri_intersection.hpp"
 
 namespace tetia::detail {
 
@@ -68,6 +69,18 @@ struct NearCoverTrace {
   bool clip_separated = false;  ///< an empty clipping certified by a separating plane
 };
 NearCoverTrace near_cover_trace(const Tet& S, const Tet& B);
+
+/// The check of the 2D kernel's result (src/kernel/tri_clip_check.hpp) run alone on (A, B), as
+/// the kernel runs it: on the input scaled by the kernel's power of two where its sizes need it,
+/// the vertices in the kernel's canonical order.
+struct TriClipTrace {
+  bool enclosed = false;  ///< an enclosure was found (else the pair would go exact)
+  double area = 0.0;      ///< its centre, the area of A n B (in the caller's units)
+  double error = 0.0;     ///< its radius, |area - exact| <= error (in the caller's units)
+  double relative = 0.0;  ///< error over the smaller triangle's area (accepted at most 2^-42)
+  double fraction = 0.0;  ///< the area as a fraction of the smaller triangle's
+};
+TriClipTrace tri_clip_trace(const Triangle& A, const Triangle& B);
 
 /// The combinatorial example of Section 5.1: (x, y, z) of X's vertices with the signs of
 /// Table 5 (w, x, y, z of vertices 0..3: ++++, ++++, +++-, +---); these dyadic values reproduce

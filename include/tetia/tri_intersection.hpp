@@ -11,8 +11,9 @@
 //    gives an empty polygon. Extreme magnitudes are rescaled by an exact power of two; what
 //    the double computation does not certify (a frame that is flat in doubles although the input
 //    is not, labels that do not close with either reference, an area that is not finite, is not
-//    positive although corners were found, or exceeds the smaller triangle) is computed exactly
-//    (GMP rationals, src/kernel/exact_fallback.hpp) and rounded once; the statistics count it.
+//    positive although corners were found, or exceeds the smaller triangle, and a result the
+//    check below does not accept) is computed exactly (GMP rationals,
+//    src/kernel/exact_fallback.hpp) and rounded once; the statistics count it.
 //  - The result is consistent: its corners form a closed convex polygon ordered from their labels
 //    alone, so a real intersection cannot vanish through rounding.
 //  - Symmetric: intersect(A, B) and intersect(B, A) compute the same polygon bit for bit (the
@@ -26,7 +27,11 @@
 //    the other triangle's edge lines certain: all but 8 of the 810,282 random benchmark pairs
 //    whose boxes overlap) get their area, first moments and polygon from a formula with a
 //    derived error bound, within 2^-47 of the smaller triangle
-//    (src/kernel/tri_certified_moments.hpp, tests/test_tri_certified.cpp).
+//    (src/kernel/tri_certified_moments.hpp, tests/test_tri_certified.cpp). The kernel's area
+//    for the other pairs stands only where a clipping with a derived error bound puts it within
+//    2^-42 of the smaller triangle of the exact area (src/kernel/tri_clip_check.hpp,
+//    tests/test_tri_clip_check.cpp); so every area is within a derived bound of the exact one,
+//    or exact. The first moments carry no bound of their own.
 //  - Every entry point (intersect with or without statistics, intersection_area,
 //    intersection_moments, either argument order) gives the same area bit for bit.
 //  - No heap allocation and no exceptions on the double path; the exact last resort allocates

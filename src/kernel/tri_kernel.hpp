@@ -40,6 +40,7 @@
 #include "exact_sign.hpp"
 #include "rescale.hpp"  // scaled_exactly
 #include "tri_certified_moments.hpp"
+#include "tri_clip_check.hpp"
 #include "tetia/tri_intersection.hpp"
 
 namespace tetia {
@@ -1008,12 +1009,16 @@ Outcome solve(const Triangle& A_in, const Triangle& B_in, Frame& fr, KernelResul
       return Outcome::exact;
     }
   }
-  if (res.num_corners == 0) return Outcome::empty;
+  // The kernel's result stands only where the clipping's derived bound (tri_clip_check.hpp)
+  // puts it within 2^-42 of the smaller triangle of the exact area; a tangent contact that
+  // only_touch decides exactly needs no bound.
+  if (res.num_corners == 0) return kernel_area_stands(fr.a_canonical, fr.b_canonical, 0.0) ? Outcome::empty : Outcome::exact;
   const double area = res.ref_area * std::abs(res.frame_det);
   if (!(area > 0.0)) [[unlikely]]
     return only_touch(*As, *Bs) == 1 ? Outcome::empty : Outcome::exact;
   const double smaller = 0.5 * std::min(std::abs(fr.det2), std::abs(fr.det2_sub));
   if (!(area <= smaller * (1.0 + 1e-12)) || !(area < INFINITY)) return Outcome::exact;
+  if (!kernel_area_stands(fr.a_canonical, fr.b_canonical, area)) return Outcome::exact;
   // Scaled back, an area in the subnormal range (or beyond the largest double) would be rounded
   // a second time, which can make it 0 (or infinite) where the exact area does not round to
   // that: exact arithmetic rounds it once.

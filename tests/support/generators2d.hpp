@@ -20,6 +20,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "support/generators.hpp"
@@ -542,6 +543,15 @@ inline std::vector<Case> far_from_origin() {
 }
 
 // --- slivers ---------------------------------------------------------------------------------
+
+/// A needle of length 1 and width 1 / aspect through the origin, and a fat triangle around the
+/// origin (the pairs of test_tri_certified.cpp and test_tri_clip_check.cpp).
+inline std::pair<Triangle, Triangle> needle_and_fat(Rng& g, double aspect) {
+  const Triangle needle = {Vec2{-0.5, 0.0}, Vec2{0.5, urand(g, -0.5, 0.5) / aspect}, Vec2{urand(g, -0.4, 0.4), 1.0 / aspect}};
+  const Triangle fat = {Vec2{urand(g, -0.6, 0.0), urand(g, -0.6, -0.1)}, Vec2{urand(g, 0.0, 0.6), urand(g, -0.6, 0.6)},
+                        Vec2{urand(g, -0.6, 0.6), urand(g, 0.1, 0.6)}};
+  return {needle, fat};
+}
 
 /// A thin triangle of height about h over an edge of length about 1: a needle (the apex over
 /// the edge) or a cap (the apex beyond an end, all three nearly collinear); randomly rotated
