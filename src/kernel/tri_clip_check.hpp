@@ -423,7 +423,8 @@ inline bool clip_enclosure(const Triangle& S, const Triangle& L, double det_s, d
 // area of A n B (A and B in a canonical vertex order, neither flat). S is the triangle of
 // smaller |det| (det_of; the coordinates break a tie, so that the choice does not depend on the
 // argument order); its area stands for the smaller one's, which it exceeds by at most their
-// bounds (2^-49 of them). `trace`: where not null, what clip_enclosure found.
+// bounds (2^-49 of them). Equal triangles (in the same canonical vertex order: the same point
+// set) need no clipping. `trace`: where not null, what clip_enclosure found.
 inline bool kernel_area_stands(const Triangle& A, const Triangle& B, double area, ClipEnclosure* trace = nullptr) {
   using namespace clip_check;
   double da, ea, db, eb;
@@ -435,7 +436,16 @@ inline bool kernel_area_stands(const Triangle& A, const Triangle& B, double area
     a_smaller = std::lexicographical_compare(pa, pa + 6, pb, pb + 6);
   }
   ClipEnclosure e;
-  e.found = a_smaller ? clip_enclosure(A, B, da, ea, db, e) : clip_enclosure(B, A, db, eb, da, e);
+  if (A == B) {  // one triangle twice (identical cells of two meshes): the exact area is its own
+    e.found = true;
+    e.fraction = 1.0;
+    e.det = std::abs(da);
+    e.det_error = ea;
+    e.area = 0.5 * e.det;
+    e.error = 0.5 * ea;
+  } else {
+    e.found = a_smaller ? clip_enclosure(A, B, da, ea, db, e) : clip_enclosure(B, A, db, eb, da, e);
+  }
   if (trace) *trace = e;
   if (!e.found) return false;
   const double off = std::abs(area - e.area) * (1.0 + 0x1p-52);
