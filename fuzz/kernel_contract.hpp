@@ -47,6 +47,10 @@
 //   inaccurate               |v - exact| > 1e-6 max(|U|, |V|) + 64 * 2^-1074 for two inputs of
 //                            quality above 1e-3 with finite volumes: a loose sanity bound (the
 //                            kernel tests hold 1e-12), so that only plainly wrong results count
+//   clip-check-enclosure     2D: the check of the kernel's result (src/kernel/tri_clip_check.hpp,
+//                            run alone: tri_clip_trace) found an enclosure that does not hold,
+//                            |area - exact| > error (a derived bound: it must hold for every
+//                            input it is found for)
 //
 // The quality of a tetrahedron is |6 vol| / s^(3/2), s the sum of its squared edge lengths (the
 // kernel's conditioning, src/kernel/one_to_many.hpp), of a triangle |2 area| / s, here both
@@ -78,6 +82,7 @@
 #include "../src/kernel/one_to_many.hpp"
 #include "decode.hpp"
 #include "tetia/exact.hpp"
+#include "tetia/kernel_trace.hpp"
 #include "tetia/tet_intersection.hpp"
 #include "tetia/tri_intersection.hpp"
 
@@ -433,7 +438,20 @@ inline std::string check_tri_contract(const Triangle& A, const Triangle& B) {
   o.corner_problem = detail::corner_problem(P.corners(), "intersect(A, B)");
   o.inconsistencies = stats.inconsistencies;
   o.retries = stats.retries;
-  return detail::judge(A, B, "area", o, [&] { return exact::intersection_area(A, B); });
+  std::optional<mpq_class> exact_area;
+  std::string report = detail::judge(A, B, "area", o, [&] {
+    if (!exact_area) exact_area = exact::intersection_area(A, B);
+    return *exact_area;
+  });
+  const tetia::detail::TriClipTrace clip = tetia::detail::tri_clip_trace(A, B);
+  if (clip.enclosed) {
+    if (!exact_area) exact_area = exact::intersection_area(A, B);
+    const mpq_class off = abs(mpq_class(clip.area) - *exact_area);
+    if (!(std::isfinite(clip.error) && off <= mpq_class(clip.error)))
+      report += (report.empty() ? "" : "; ") + std::string("clip-check-enclosure: area ") + detail::num(clip.area) +
+                " with error " + detail::num(clip.error) + ", exact " + detail::num(exact_area->get_d());
+  }
+  return report;
 }
 
 /// The contract for a decoded or parsed pair.

@@ -73,8 +73,10 @@ TriClipTrace tri_clip_trace(const Triangle& A, const Triangle& B) {
   detail2::ClipEnclosure e;
   detail2::kernel_area_stands(a, b, 0.0, &e);
   t.enclosed = e.found;
+  // Scaled back, the centre and the radius are rounded again (in the subnormal range, to a
+  // multiple of 2^-1074): the radius grows by 2^-1074 for both.
   t.area = std::ldexp(e.area, -2 * scale);
-  t.error = std::ldexp(e.error, -2 * scale);
+  t.error = std::ldexp(e.error, -2 * scale) + (scale != 0 ? 0x1p-1074 : 0.0);
   t.relative = e.error / (0.5 * (e.det - e.det_error));
   t.fraction = e.fraction;
   return t;
