@@ -4,15 +4,19 @@
 // kernel's own accuracy there is measured, not bounded; this check turns it into a bound, or
 // sends the pair to the exact last resort.
 //
-// Contract: clip_enclosure(S, L, out) encloses the exact area of S n L: it returns true and sets
-// out.area and out.error with |out.area - exact| <= out.error, or returns false (a determinant
-// the double evaluations cannot certify and orient2d_nearest cannot take; see below). S and L
-// are triangles in any vertex order, neither flat, both with edges in the kernel's range (after
-// its rescaling: differences below 2^496). The result is a function of the two triangles and
-// of the order of each one's vertices; the kernel's caller passes them in its canonical order,
-// so that it depends on the pair as point sets only. kernel_area_stands(A, B, area) is whether
-// a result `area` for the pair (A, B) is certainly within kCheckAccepted of the smaller
-// triangle's area of the exact one. Nothing allocates, nothing throws.
+// Contract: clip_enclosure(S, L, det_s, det_s_error, det_l, out), given det(S) within
+// det_s_error and det(L)'s sign (det_of, certain), encloses the exact area of S n L: it returns
+// true and sets out.area and out.error with |out.area - exact| <= out.error, or returns false
+// (a line of L whose values at S's vertices leave no certain gradient across its slab, or a
+// vertex of L whose coordinates' sum its bound does not keep from 0, in both tries; never seen
+// on the test families; or a bound that is not finite). S and L are triangles in any vertex
+// order, neither flat, with edges in the kernel's range (after its rescaling); outside it the
+// bounds only grow (underflow is covered by absolute terms) or are not finite. The result is
+// a function of the two triangles and of the order of each one's vertices; the kernel passes
+// them in its canonical order, so that it depends on the pair as point sets only.
+// kernel_area_stands(A, B, area) is whether a result `area` for the pair (A, B) is certainly
+// within kCheckAccepted of the smaller triangle's area of the exact one. Nothing allocates,
+// nothing throws.
 //
 // Method. Everything is measured in S's barycentric coordinates lambda (lambda_0 + lambda_1 +
 // lambda_2 = 1), where S is the unit simplex Delta whatever its size or shape, drawn in the
@@ -416,7 +420,7 @@ inline bool clip_enclosure(const Triangle& S, const Triangle& L, double det_s, d
   out.error = 0.5 * (out.fraction_error * out.det + (std::abs(out.fraction) + out.fraction_error) * out.det_error) *
                   (1.0 + 0x1p-50) +
               0x1p-53 * std::abs(out.area) + 0x1p-1074;
-  return true;
+  return out.error < INFINITY;  // not NaN either (values out of range)
 }
 
 // Whether `area` is certainly within kCheckAccepted of the smaller triangle's area of the exact
