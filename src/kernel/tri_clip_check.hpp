@@ -110,6 +110,9 @@ inline int det2_sign(double a, double b, double c, double d) {
   const double bound = 0x1p-51 * (std::abs(l) + std::abs(r));
   if (v > bound) return 1;
   if (-v > bound) return -1;
+  // A product is 0 only where a factor is (non-zero ones are at least 2^-500): exactly 0
+  // (lines through a shared vertex or along a shared edge).
+  if (l == 0.0 && r == 0.0) return 0;
   double p, pe, q, qe, e[4];
   two_product(a, d, p, pe);
   two_product(b, c, q, qe);
