@@ -31,6 +31,8 @@ TriIntersectionStats& TriIntersectionStats::operator+=(const TriIntersectionStat
   rescaled += o.rescaled;
   exact_fallbacks += o.exact_fallbacks;
   certified += o.certified;
+  checked += o.checked;
+  check_rejected += o.check_rejected;
   calls += o.calls;
   return *this;
 }

@@ -65,6 +65,10 @@ struct TriIntersectionStats {
   std::int64_t certified = 0;           ///< area and first moments from the certified formula
                                         ///< (kernel/tri_certified_moments.hpp): a bound of
                                         ///< 2^-47 of the smaller triangle, or certainly apart
+  std::int64_t checked = 0;             ///< kernel results put to the check
+                                        ///< (kernel/tri_clip_check.hpp)
+  std::int64_t check_rejected = 0;      ///< of those, not accepted: computed exactly (also
+                                        ///< counted in exact_fallbacks)
   std::int64_t calls = 0;
 
   TriIntersectionStats& operator+=(const TriIntersectionStats& o);

@@ -1012,13 +1012,21 @@ Outcome solve(const Triangle& A_in, const Triangle& B_in, Frame& fr, KernelResul
   // The kernel's result stands only where the clipping's derived bound (tri_clip_check.hpp)
   // puts it within 2^-42 of the smaller triangle of the exact area; a tangent contact that
   // only_touch decides exactly needs no bound.
-  if (res.num_corners == 0) return kernel_area_stands(fr.a_canonical, fr.b_canonical, 0.0) ? Outcome::empty : Outcome::exact;
+  const auto stands = [&](double result) {
+    const bool accepted = kernel_area_stands(fr.a_canonical, fr.b_canonical, result);
+    if (stats) {
+      ++stats->checked;
+      stats->check_rejected += accepted ? 0 : 1;
+    }
+    return accepted;
+  };
+  if (res.num_corners == 0) return stands(0.0) ? Outcome::empty : Outcome::exact;
   const double area = res.ref_area * std::abs(res.frame_det);
   if (!(area > 0.0)) [[unlikely]]
     return only_touch(*As, *Bs) == 1 ? Outcome::empty : Outcome::exact;
   const double smaller = 0.5 * std::min(std::abs(fr.det2), std::abs(fr.det2_sub));
   if (!(area <= smaller * (1.0 + 1e-12)) || !(area < INFINITY)) return Outcome::exact;
-  if (!kernel_area_stands(fr.a_canonical, fr.b_canonical, area)) return Outcome::exact;
+  if (!stands(area)) return Outcome::exact;
   // Scaled back, an area in the subnormal range (or beyond the largest double) would be rounded
   // a second time, which can make it 0 (or infinite) where the exact area does not round to
   // that: exact arithmetic rounds it once.

@@ -81,7 +81,8 @@ inline std::string fmt_stats(const TriIntersectionStats& s) {
     << " corner_coordinates=" << s.corner_coordinates << " guardrail_clamps=" << s.guardrail_clamps
     << " reference_swaps=" << s.reference_swaps << " inconsistencies=" << s.inconsistencies
     << " retries=" << s.retries << " refined=" << s.refined << " rescaled=" << s.rescaled
-    << " exact_fallbacks=" << s.exact_fallbacks << " certified=" << s.certified << " calls=" << s.calls;
+    << " exact_fallbacks=" << s.exact_fallbacks << " certified=" << s.certified << " checked=" << s.checked
+    << " check_rejected=" << s.check_rejected << " calls=" << s.calls;
   return o.str();
 }
 
