@@ -64,7 +64,7 @@ TriClipTrace tri_clip_trace(const Triangle& A, const Triangle& B) {
   Triangle scaled_a = A, scaled_b = B;
   int scale = 0;
   if (detail2::make_frame(A, B, fr) == detail2::FrameStatus::rescale) {  // as solve() scales
-    scale = -(std::ilogb(fr.size_squared_max) / 2);
+    scale = detail2::rescale_exponent(fr);
     if (!scaled_exactly(&A[0].x, 6, scale, &scaled_a[0].x) || !scaled_exactly(&B[0].x, 6, scale, &scaled_b[0].x))
       return t;
   }

@@ -961,6 +961,10 @@ int only_touch(const Triangle& A, const Triangle& B) {
 //  - the area exceeds the smaller triangle's (|det| / 2, accurate to 1e-14, shape_quality) by
 //    more than 1e-12 of it.
 // Every test is on numbers all entry points compute alike, so they all take the same way.
+// The exponent k by which solve() scales the input (coordinates times 2^k) where make_frame
+// asks for it: the larger triangle's size to about 1.
+inline int rescale_exponent(const Frame& fr) { return -(std::ilogb(fr.size_squared_max) / 2); }
+
 template <bool kMoments>
 Outcome solve(const Triangle& A_in, const Triangle& B_in, Frame& fr, KernelResult& res, int& scale,
               TriIntersectionStats* stats) {
@@ -976,7 +980,7 @@ Outcome solve(const Triangle& A_in, const Triangle& B_in, Frame& fr, KernelResul
     // Scale the larger triangle's size to about 1; the smaller one must then be in range too.
     if (!finite(A_in) || !finite(B_in)) return Outcome::empty;
     if (stats) ++stats->rescaled;
-    scale = -(std::ilogb(fr.size_squared_max) / 2);
+    scale = rescale_exponent(fr);
     if (!detail::scaled_exactly(&A_in[0].x, 6, scale, &scaled_a[0].x) ||
         !detail::scaled_exactly(&B_in[0].x, 6, scale, &scaled_b[0].x))
       return Outcome::exact;
