@@ -947,6 +947,10 @@ int only_touch(const Triangle& A, const Triangle& B) {
   return uncertain ? 2 : 0;
 }
 
+// The exponent k by which solve() scales the input (coordinates times 2^k) where make_frame
+// asks for it: the larger triangle's size to about 1.
+inline int rescale_exponent(const Frame& fr) { return -(std::ilogb(fr.size_squared_max) / 2); }
+
 // The double kernel with what certifies its result, as in 3D: a quick exit for disjoint
 // bounding boxes (boxes_disjoint); the input scaled into the range the kernel is made for
 // (rescale.hpp; `scale` receives the exponent k, results scale back by 2^(2k) and 2^(3k)); if
@@ -959,12 +963,10 @@ int only_touch(const Triangle& A, const Triangle& B) {
 //    touch (only_touch, exact and cheap, decides the usual case of a tangent contact: empty),
 //    or an area that is not finite;
 //  - the area exceeds the smaller triangle's (|det| / 2, accurate to 1e-14, shape_quality) by
-//    more than 1e-12 of it.
+//    more than 1e-12 of it;
+//  - the check (tri_clip_check.hpp) does not put the area, or an empty result, within 2^-42 of
+//    the smaller triangle of the exact one.
 // Every test is on numbers all entry points compute alike, so they all take the same way.
-// The exponent k by which solve() scales the input (coordinates times 2^k) where make_frame
-// asks for it: the larger triangle's size to about 1.
-inline int rescale_exponent(const Frame& fr) { return -(std::ilogb(fr.size_squared_max) / 2); }
-
 template <bool kMoments>
 Outcome solve(const Triangle& A_in, const Triangle& B_in, Frame& fr, KernelResult& res, int& scale,
               TriIntersectionStats* stats) {
