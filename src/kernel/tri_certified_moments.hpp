@@ -12,14 +12,15 @@
 //  - kUncertain otherwise: an orientation within its error bound (a vertex on or near an edge
 //    line of the other triangle: shared vertices, collinear edges), a triangle whose own
 //    orientation is not certain, two crossings on one edge too close to order, a bound above
-//    the threshold, a small overlap, equal determinants or equal abscissas within a triangle,
-//    a coordinate outside [-2^300, 2^300] or not finite. The kernel decides those.
+//    the threshold, a small overlap, a coordinate outside [-2^300, 2^300] or not finite. The
+//    kernel decides those.
 // The outcome and the bits of m depend on A and B as two sets of three points only: not on the
 // order of the triangles nor of their vertices. Nothing allocates, nothing throws.
 //
-// Method. Each triangle is put in a canonical order: its vertex of smallest abscissa first
-// (equal abscissas: uncertain), then counter-clockwise. S is the one with the smaller
-// determinant, L the other. Everything is measured in S's own frame, where S is the unit
+// Method. Each triangle is put in a canonical order: its lexicographically smallest vertex
+// first (smallest abscissa, then ordinate), then counter-clockwise. S is the one with the
+// smaller determinant (equal determinants: the lexicographically smaller canonical triangle),
+// L the other. Everything is measured in S's own frame, where S is the unit
 // triangle: o = S0 -> (0, 0), S1 -> (1, 0), S2 -> (0, 1), lambda = (l1, l2) the barycentric
 // coordinates of S1 and S2, as the kernel measures areas (tri_kernel.hpp, step 5). Every corner
 // of S n L is
@@ -131,7 +132,7 @@ constexpr double kUnderflow = 0x1p-1000;                     // slack for subnor
 constexpr double kRange = 0x1p300;
 constexpr double kSmallestDet = 0x1p-600;
 
-// A triangle with its vertex of smallest abscissa first, then counter-clockwise.
+// A triangle with its lexicographically smallest vertex first, then counter-clockwise.
 // det = (p1 - p0) x (p2 - p0) > det_error (its error bound) when `certain`.
 struct Canonical {
   Vec2 p[3];
@@ -143,9 +144,16 @@ struct Canonical {
 
 [[gnu::always_inline]] inline Canonical canonical(const Triangle& t) {
   static constexpr int kNext[3] = {1, 2, 0}, kPrev[3] = {2, 0, 1};
-  // Without branches: the order is random.
-  const int m01 = t[1].x < t[0].x ? 1 : 0;
-  const int m = t[2].x < t[m01].x ? 2 : m01;
+  // Without branches where the abscissas differ: the order is random. Where two tie (a
+  // structured mesh's right triangles), the ordinates decide: lexicographic order, out of the
+  // way (distinct points of a triangle that is certainly not flat).
+  int m01 = t[1].x < t[0].x ? 1 : 0;
+  int m = t[2].x < t[m01].x ? 2 : m01;
+  if (int(t[0].x == t[1].x) | int(t[1].x == t[2].x) | int(t[0].x == t[2].x)) [[unlikely]] {
+    const auto before = [](const Vec2& a, const Vec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); };
+    m01 = before(t[1], t[0]) ? 1 : 0;
+    m = before(t[2], t[m01]) ? 2 : m01;
+  }
   Canonical c;
   c.p[0] = t[m];
   c.p[1] = t[kNext[m]];
@@ -163,9 +171,17 @@ struct Canonical {
   c.index[2] = flip ? kNext[m] : kPrev[m];
   c.det = std::abs(det);
   c.det_error = kOrientBound * (std::abs(l) + std::abs(r)) + kUnderflow;
-  // Equal abscissas would make the first vertex depend on the input's order.
-  c.certain = int(c.det > c.det_error) & int(t[0].x != t[1].x) & int(t[1].x != t[2].x) & int(t[0].x != t[2].x);
+  // det > 0 also means three distinct points, so that the first vertex is one of them whatever
+  // the input's order.
+  c.certain = c.det > c.det_error;
   return c;
+}
+
+// Whether a's canonical vertices come before b's, compared coordinate by coordinate.
+inline bool lexicographically_less(const Canonical& a, const Canonical& b) {
+  const double* pa = &a.p[0].x;
+  const double* pb = &b.p[0].x;
+  return std::lexicographical_compare(pa, pa + 6, pb, pb + 6);
 }
 
 // Four lanes of doubles: lanes 0-2 a triangle's three vertices (or edges), lane 3 a copy of lane
@@ -617,8 +633,14 @@ Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, C
     if (!in_range || shared) return Certified::kUncertain;
   }
   const Canonical ca = canonical(A), cb = canonical(B);
-  if (!(ca.certain & cb.certain & (ca.det != cb.det))) return Certified::kUncertain;
-  const bool a_smaller = ca.det < cb.det;
+  if (!(ca.certain & cb.certain)) return Certified::kUncertain;
+  // Equal determinants (two cells of one size: a structured mesh against itself moved): the
+  // lexicographically smaller canonical triangle, so that the choice depends on the two point
+  // sets only. Equal point sets share vertices and were sent on above. (A branch on the tie
+  // alone, which is rare, not on which determinant is smaller, which is random.)
+  bool a_smaller = ca.det < cb.det;
+  if (ca.det == cb.det) [[unlikely]]
+    a_smaller = lexicographically_less(ca, cb);
   const Canonical& S = a_smaller ? ca : cb;
   if (!(S.det >= kSmallestDet)) return Certified::kUncertain;
   // Both ways, then selected: a branch on which triangle is smaller mispredicts half the time.
