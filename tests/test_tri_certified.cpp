@@ -27,6 +27,7 @@
 
 #include "support/generators2d.hpp"
 #include "tetia/exact.hpp"
+#include "tetia/mesh.hpp"
 #include "tetia/tri_intersection.hpp"
 
 namespace {
@@ -280,6 +281,50 @@ TEST(TriCertified, StructuredGrids) {
   report("structured grids", t);
   std::printf("[ certified] structured grids: %ld of %ld pairs whose boxes overlap decided\n", t.certified + t.apart, tried);
   EXPECT_EQ(t.certified + t.apart, tried);
+}
+
+// The cells of a mesh against the same mesh: pairs with a vertex in common. Neighbours only
+// touch and must be decided (certainly apart, the closed separation); a cell against itself
+// overlaps with every vertex in common and goes to the kernel. A structured mesh, and the same
+// with its interior nodes moved at random (unstructured, still conforming), rotated so that no
+// edge is axis-aligned in the second case.
+TEST(TriCertified, MeshNeighboursTouch) {
+  Rng g(0x7e7a2d07);
+  for (int variant = 0; variant < 2; ++variant) {
+    const int n = 8;
+    TriMesh m = make_structured_tri_mesh({n, n}, {0.0, 0.0}, {1.0 / n, 1.0 / n});
+    if (variant == 1) {
+      const double theta = urand(g, 0.1, 1.4);
+      for (std::size_t i = 0; i < m.nodes.size(); ++i) {
+        Vec2& p = m.nodes[i];
+        const bool boundary = p.x == 0.0 || p.y == 0.0 || p.x == 1.0 || p.y == 1.0;
+        if (!boundary) p = p + Vec2{urand(g, -0.3, 0.3) / n, urand(g, -0.3, 0.3) / n};
+        p = rotate(p, {0.5, 0.5}, theta);
+      }
+    }
+    Tally t;
+    long neighbours = 0, decided = 0;
+    for (std::size_t a = 0; a < m.cells.size(); ++a)
+      for (std::size_t b = 0; b < m.cells.size(); ++b) {
+        const Triangle A = m.cell(a), B = m.cell(b);
+        bool common = false;
+        for (const Vec2& p : A)
+          for (const Vec2& q : B) common |= p.x == q.x && p.y == q.y;
+        if (!common) continue;
+        TriIntersectionStats st;
+        const double area = intersect(A, B, &st).area();
+        if (a == b) {
+          EXPECT_EQ(st.certified, 0) << "a cell against itself overlaps: the kernel's";
+          continue;
+        }
+        ++neighbours;
+        decided += st.certified == 1 && area == 0.0;
+        check(A, B, t, variant == 0 ? "structured neighbours" : "moved neighbours");
+      }
+    report(variant == 0 ? "structured neighbours" : "moved neighbours", t);
+    std::printf("[ certified] %s: %ld of %ld neighbours decided apart\n", variant == 0 ? "structured" : "moved", decided, neighbours);
+    EXPECT_EQ(decided, neighbours);
+  }
 }
 
 }  // namespace

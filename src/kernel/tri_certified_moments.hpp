@@ -4,13 +4,15 @@
 //
 // Contract: certified_moments(A, B, m) returns
 //  - kSeparated when an edge line of one triangle has the three vertices of the other strictly
-//    on its outer side, every orientation involved being certain (Shewchuk's bound): the exact
-//    area is 0.
+//    on its outer side, every orientation involved being certain (Shewchuk's bound); or, for
+//    two triangles with a vertex in common (neighbours in a mesh), on its closed outer side,
+//    the signs the bounds leave open decided exactly (closed_separation): the exact area is 0.
 //  - kCertified when |m.area - exact area| <= kAcceptedError times the smaller triangle's area
 //    (a bound, rounding included, not an estimate) and m.area is at least kSmallestFraction of
 //    it; m.first: the first moments of the same polygon (not bounded).
 //  - kUncertain otherwise: an orientation within its error bound (a vertex on or near an edge
-//    line of the other triangle: shared vertices, collinear edges), a triangle whose own
+//    line of the other triangle: overlapping triangles with a vertex in common, collinear
+//    edges), a triangle whose own
 //    orientation is not certain, two crossings on one edge too close to order, a bound above
 //    the threshold, a small overlap, a coordinate outside [-2^300, 2^300] or not finite. The
 //    kernel decides those.
@@ -107,7 +109,7 @@
 #include <immintrin.h>
 #endif
 
-#include "exact_sign.hpp"  // two_diff, two_product
+#include "exact_sign.hpp"  // two_diff, two_product, orient2d_sign
 #include "tetia/geometry.hpp"
 #include "tetia/polygon.hpp"  // Moments2
 
@@ -332,6 +334,33 @@ template <class T>
     g[k] = l - r;
     e[k] = splat(kOrientBound) * (vabs(l) + vabs(r)) + splat(kUnderflow);
   }
+}
+
+// Whether an edge line of one triangle has the other's three vertices on its closed outer side,
+// each sign certain by its bound (orientations) or else exact (exact_sign.hpp): the exact area
+// is then 0, the triangles at most touch (a vertex or a part of an edge in common). Both
+// triangles' lines are looked at, so the answer is a property of the pair, whatever the order.
+// A line with a vertex of the other certainly inside is passed over without an exact sign.
+inline bool closed_separation(const Canonical& ca, const Canonical& cb) {
+  v4d g[3], e[3];
+  for (int way = 0; way < 2; ++way) {
+    const Canonical& t = way == 0 ? ca : cb;
+    const Canonical& x = way == 0 ? cb : ca;
+    orientations(t, x, g, e);
+    for (int k = 0; k < 3; ++k) {
+      if (any(g[k] - e[k] > splat(0.0))) continue;  // a vertex certainly inside
+      const v4i beyond = g[k] + e[k] < splat(0.0);
+      bool outside = true;
+      for (int i = 0; i < 3 && outside; ++i) {
+        if (beyond[i]) continue;
+        const Vec2 a = t.p[k], b = t.p[k == 2 ? 0 : k + 1], p = x.p[i];
+        const int side = detail::orient2d_sign(a.x, a.y, b.x, b.y, p.x, p.y);  // 2: unknown
+        outside = side == 0 || side == -1;
+      }
+      if (outside) return true;
+    }
+  }
+  return false;
 }
 
 // S's three edges (lanes f: from S.p[f] to S.p[f + 1]) clipped by L's three lines: the
@@ -620,6 +649,7 @@ template <bool kFirst>
 template <bool kFirst>
 Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, CertifiedShape* shape = nullptr) {
   using namespace certified;
+  bool shared;
   {
     const v4d ax = lanes(A[0].x, A[1].x, A[2].x, A[0].x), ay = lanes(A[0].y, A[1].y, A[2].y, A[0].y);
     const v4d bx = lanes(B[0].x, B[1].x, B[2].x, B[0].x), by = lanes(B[0].y, B[1].y, B[2].y, B[0].y);
@@ -629,11 +659,15 @@ Certified certified_moments(const Triangle& A, const Triangle& B, Moments2& m, C
     // common in meshes (neighbours, identical cells), so decided before anything else. B's
     // vertices against A's, in B's three rotations.
     const v4d bx1 = next(bx), by1 = next(by), bx2 = next(bx1), by2 = next(by1);
-    const bool shared = any(((ax == bx) & (ay == by)) | ((ax == bx1) & (ay == by1)) | ((ax == bx2) & (ay == by2)));
-    if (!in_range || shared) return Certified::kUncertain;
+    shared = any(((ax == bx) & (ay == by)) | ((ax == bx1) & (ay == by1)) | ((ax == bx2) & (ay == by2)));
+    if (!in_range) return Certified::kUncertain;
   }
   const Canonical ca = canonical(A), cb = canonical(B);
   if (!(ca.certain & cb.certain)) return Certified::kUncertain;
+  // Neighbours that share a vertex or an edge only touch, most of the time: decided here, with
+  // exact signs where the bounds leave them open; the rest goes to the kernel.
+  if (shared) [[unlikely]]
+    return closed_separation(ca, cb) ? Certified::kSeparated : Certified::kUncertain;
   // Equal determinants (two cells of one size: a structured mesh against itself moved): the
   // lexicographically smaller canonical triangle, so that the choice depends on the two point
   // sets only. Equal point sets share vertices and were sent on above. (A branch on the tie
