@@ -45,7 +45,7 @@
 // estimate (KernelVsExact.EstimateUnderDirectedSearch; docs/architecture.md has the figures),
 // the error was at most 0.215 of the a priori estimate (before the a posteriori one existed),
 // and of the smaller of the two at most 0.182 with the a posteriori one's factor 4 over six
-// searches (0.52 with a factor 2, 0.60 without), 0.251 over twenty-four (2026-12-06). A result is
+// searches (0.52 with a factor 2, 0.60 without), 0.251 over sixty-three (2026-12-06). A result is
 // accepted when 0.5 of either estimate is at most 1e-12.
 //
 // (Until 2026-12-03 M was the largest |coordinate| and the factor 0.25, 0.08 for pairs without
