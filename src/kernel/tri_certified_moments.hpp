@@ -12,10 +12,9 @@
 //    it; m.first: the first moments of the same polygon (not bounded).
 //  - kUncertain otherwise: an orientation within its error bound (a vertex on or near an edge
 //    line of the other triangle: overlapping triangles with a vertex in common, collinear
-//    edges), a triangle whose own
-//    orientation is not certain, two crossings on one edge too close to order, a bound above
-//    the threshold, a small overlap, a coordinate outside [-2^300, 2^300] or not finite. The
-//    kernel decides those.
+//    edges), a triangle whose own orientation is not certain, two crossings on one edge too
+//    close to order, a bound above the threshold, a small overlap, a coordinate outside
+//    [-2^300, 2^300] or not finite. The kernel decides those.
 // The outcome and the bits of m depend on A and B as two sets of three points only: not on the
 // order of the triangles nor of their vertices. Nothing allocates, nothing throws.
 //
