@@ -105,6 +105,15 @@ void check(const Triangle& A, const Triangle& B, Tally& t, const char* what) {
   }
 }
 
+// Whether the closed bounding boxes of A and B meet: the pairs that reach the formula (the
+// entry points answer disjoint boxes before it).
+bool boxes_overlap(const Triangle& A, const Triangle& B) {
+  return std::max({A[0].x, A[1].x, A[2].x}) >= std::min({B[0].x, B[1].x, B[2].x}) &&
+         std::max({B[0].x, B[1].x, B[2].x}) >= std::min({A[0].x, A[1].x, A[2].x}) &&
+         std::max({A[0].y, A[1].y, A[2].y}) >= std::min({B[0].y, B[1].y, B[2].y}) &&
+         std::max({B[0].y, B[1].y, B[2].y}) >= std::min({A[0].y, A[1].y, A[2].y});
+}
+
 void report(const char* name, const Tally& t) {
   std::printf("[ certified] %-22s %6ld pairs: %6ld certified (worst %.3g of the smaller), %6ld apart\n", name,
               t.pairs, t.certified, t.worst, t.apart);
@@ -133,11 +142,7 @@ TEST(TriCertified, DecidesNearlyEveryRandomPair) {
     Triangle A, B;
     for (auto& p : A) p = {urand(g, 0.0, 1.0), urand(g, 0.0, 1.0)};
     for (auto& p : B) p = {urand(g, 0.0, 1.0), urand(g, 0.0, 1.0)};
-    const bool boxes_overlap = std::max({A[0].x, A[1].x, A[2].x}) >= std::min({B[0].x, B[1].x, B[2].x}) &&
-                               std::max({B[0].x, B[1].x, B[2].x}) >= std::min({A[0].x, A[1].x, A[2].x}) &&
-                               std::max({A[0].y, A[1].y, A[2].y}) >= std::min({B[0].y, B[1].y, B[2].y}) &&
-                               std::max({B[0].y, B[1].y, B[2].y}) >= std::min({A[0].y, A[1].y, A[2].y});
-    overlapping += boxes_overlap;
+    overlapping += boxes_overlap(A, B);
     check(A, B, t, "random");
   }
   report("random", t);
@@ -268,11 +273,7 @@ TEST(TriCertified, StructuredGrids) {
           for (int bj = lo_j; bj <= hi_j; ++bj)
             for (int bh = 0; bh < 2; ++bh) {
               const Triangle B = cell(k, shift, bi, bj, bh, db);
-              // The pairs that reach the formula (disjoint boxes are answered before it).
-              tried += std::max({A[0].x, A[1].x, A[2].x}) >= std::min({B[0].x, B[1].x, B[2].x}) &&
-                       std::max({B[0].x, B[1].x, B[2].x}) >= std::min({A[0].x, A[1].x, A[2].x}) &&
-                       std::max({A[0].y, A[1].y, A[2].y}) >= std::min({B[0].y, B[1].y, B[2].y}) &&
-                       std::max({B[0].y, B[1].y, B[2].y}) >= std::min({A[0].y, A[1].y, A[2].y});
+              tried += boxes_overlap(A, B);
               check(A, B, t, "structured");
             }
       }
